@@ -1,0 +1,27 @@
+//! tocsin: exact distance, collision and continuous collision detection between polygon soups.
+//!
+//! Meshes are [`TriMesh`] polygon soups (no topology assumed) with an RSS bounding volume
+//! hierarchy. Every query takes each mesh with its world [`Pose`].
+//!
+//! ```
+//! use tocsin::{distance, mesh, DistanceOptions, Pose, Vec3};
+//! let a = mesh::sphere(1.0, 16, 32).unwrap();
+//! let b = mesh::box_mesh(Vec3::splat(0.5)).unwrap();
+//! let pose_b = Pose::from_translation(Vec3::new(3.0, 0.0, 0.0));
+//! let d = distance(&a, &Pose::IDENTITY, &b, &pose_b, &DistanceOptions::default()).unwrap();
+//! assert!((d.distance - 1.5).abs() < 1e-9);
+//! ```
+
+pub mod bvh;
+pub mod error;
+pub mod math;
+pub mod mesh;
+pub mod query;
+
+pub use error::{MeshError, OptionsError, PoseError};
+pub use math::{Mat3, Mat4, Pose, Vec3};
+pub use mesh::TriMesh;
+pub use query::collide::{collide, collide_pairs};
+pub use query::distance::{
+    distance, distance_with_cache, within_distance, DistanceCache, DistanceOptions, DistanceResult,
+};

@@ -1,0 +1,133 @@
+//! Triangle meshes as polygon soups.
+//!
+//! A [`TriMesh`] is any list of triangles over a list of vertices: no closedness, orientation,
+//! manifoldness or connectivity is assumed. Duplicated vertices and triangles, zero-area
+//! triangles (segments, points), isolated vertices and disconnected pieces are all accepted.
+//! Construction validates the input (finite coordinates, indices in range, at least one
+//! triangle) and builds the [`Bvh`] used by every query. The caller's data is never modified.
+
+mod generate;
+mod load;
+
+pub use generate::{box_mesh, plate, sphere, torus_knot};
+
+use crate::bvh::Bvh;
+use crate::error::MeshError;
+use crate::math::Vec3;
+
+/// Largest number of vertices or triangles a mesh may have (indices are stored as `u32`).
+const MAX_ELEMENTS: usize = i32::MAX as usize;
+
+/// A triangle mesh (polygon soup) with its bounding volume hierarchy, in its body frame.
+#[derive(Clone, Debug)]
+pub struct TriMesh {
+    vertices: Vec<Vec3>,
+    triangles: Vec<[u32; 3]>,
+    bvh: Bvh,
+}
+
+impl TriMesh {
+    /// Builds a mesh from vertex coordinates (body frame, model units) and triangles
+    /// (three vertex indices each), validating both and building the hierarchy.
+    pub fn new(vertices: Vec<Vec3>, triangles: Vec<[u32; 3]>) -> Result<Self, MeshError> {
+        validate(&vertices, triangles.iter().map(|t| t.map(i64::from)))?;
+        let bvh = Bvh::build(&vertices, &triangles);
+        Ok(Self { vertices, triangles, bvh })
+    }
+
+    /// Builds a mesh from borrowed arrays, with signed indices so that negative indices are
+    /// reported as errors rather than wrapped. The inputs are copied, never modified.
+    pub fn from_arrays(vertices: &[[f64; 3]], triangles: &[[i64; 3]]) -> Result<Self, MeshError> {
+        validate_count("vertices", vertices.len())?;
+        let verts: Vec<Vec3> = vertices.iter().map(|v| Vec3::from_array(*v)).collect();
+        validate(&verts, triangles.iter().copied())?;
+        // Every index is now known to be in 0..len <= i32::MAX, so the casts are lossless.
+        let tris = triangles.iter().map(|t| t.map(|i| i as u32)).collect();
+        Self::new(verts, tris)
+    }
+
+    /// Loads a mesh from an OBJ, STL (ASCII or binary) or PLY file, chosen by extension.
+    /// Polygons are triangulated; all objects of an OBJ file are merged into one soup.
+    pub fn load(path: impl AsRef<std::path::Path>) -> Result<Self, MeshError> {
+        let path = path.as_ref();
+        let (vertices, triangles) = load::load_file(path)?;
+        Self::new(vertices, triangles)
+            .map_err(|e| MeshError::InFile { path: path.to_path_buf(), source: Box::new(e) })
+    }
+
+    /// The vertex coordinates, body frame.
+    pub fn vertices(&self) -> &[Vec3] {
+        &self.vertices
+    }
+
+    /// The triangles, as vertex indices.
+    pub fn triangles(&self) -> &[[u32; 3]] {
+        &self.triangles
+    }
+
+    /// Number of vertices.
+    pub fn num_vertices(&self) -> usize {
+        self.vertices.len()
+    }
+
+    /// Number of triangles.
+    pub fn num_triangles(&self) -> usize {
+        self.triangles.len()
+    }
+
+    /// The three corners of triangle `i`, body frame.
+    #[inline]
+    pub fn triangle(&self, i: usize) -> [Vec3; 3] {
+        self.triangles[i].map(|v| self.vertices[v as usize])
+    }
+
+    /// The bounding volume hierarchy.
+    pub fn bvh(&self) -> &Bvh {
+        &self.bvh
+    }
+
+    /// Radius of a ball about the root volume's centre that contains the mesh (model units):
+    /// the scale used by relative tolerances.
+    pub fn bounding_radius(&self) -> f64 {
+        self.bvh.root().bounding_radius()
+    }
+}
+
+fn validate_count(what: &'static str, count: usize) -> Result<(), MeshError> {
+    if count > MAX_ELEMENTS {
+        return Err(MeshError::TooLarge { what, count });
+    }
+    Ok(())
+}
+
+fn validate(
+    vertices: &[Vec3],
+    triangles: impl ExactSizeIterator<Item = [i64; 3]>,
+) -> Result<(), MeshError> {
+    validate_count("vertices", vertices.len())?;
+    validate_count("triangles", triangles.len())?;
+    if triangles.len() == 0 {
+        return Err(MeshError::NoTriangles);
+    }
+    for (vertex, v) in vertices.iter().enumerate() {
+        for (k, axis) in ['x', 'y', 'z'].into_iter().enumerate() {
+            if !v[k].is_finite() {
+                return Err(MeshError::NonFiniteCoordinate { vertex, axis, value: v[k] });
+            }
+        }
+    }
+    let n = vertices.len() as i64;
+    for (triangle, t) in triangles.enumerate() {
+        for (corner, &index) in t.iter().enumerate() {
+            if index < 0 || index >= n {
+                return Err(MeshError::IndexOutOfRange {
+                    triangle,
+                    corner,
+                    index,
+                    num_vertices: vertices.len(),
+                });
+            }
+        }
+    }
+    Ok(())
+}

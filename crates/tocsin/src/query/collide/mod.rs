@@ -1,0 +1,85 @@
+//! Whether two meshes intersect: any triangle pair touching or overlapping (coplanar overlaps
+//! included), optionally listing all such pairs.
+//!
+//! Traversal of the two RSS hierarchies in mesh 1's frame; a node pair is skipped when a
+//! separating axis shows a positive gap (beyond a rounding slack, so touching is never
+//! skipped). Leaves use [`intersect_triangle_triangle`]. No OBB is kept: see ARCHITECTURE.md.
+
+use crate::bvh::{rss_separation, RelativeRss};
+use crate::math::Pose;
+use crate::mesh::TriMesh;
+use crate::query::distance::intersect_triangle_triangle;
+
+/// Whether `mesh1` at `pose1` and `mesh2` at `pose2` intersect or touch.
+pub fn collide(mesh1: &TriMesh, pose1: &Pose, mesh2: &TriMesh, pose2: &Pose) -> bool {
+    let mut found = false;
+    traverse(mesh1, pose1, mesh2, pose2, &mut |_, _| {
+        found = true;
+        false
+    });
+    found
+}
+
+/// All intersecting (or touching) triangle pairs `[triangle of mesh 1, triangle of mesh 2]`,
+/// sorted.
+pub fn collide_pairs(mesh1: &TriMesh, pose1: &Pose, mesh2: &TriMesh, pose2: &Pose) -> Vec<[usize; 2]> {
+    let mut pairs = Vec::new();
+    traverse(mesh1, pose1, mesh2, pose2, &mut |i, j| {
+        pairs.push([i, j]);
+        true
+    });
+    pairs.sort_unstable();
+    pairs
+}
+
+/// Calls `on_pair` for intersecting triangle pairs until it returns false.
+fn traverse(
+    mesh1: &TriMesh,
+    pose1: &Pose,
+    mesh2: &TriMesh,
+    pose2: &Pose,
+    on_pair: &mut dyn FnMut(usize, usize) -> bool,
+) {
+    let pos12 = pose1.inv_mul(pose2);
+    let (rot12, trans12) = (pos12.rotation, pos12.translation);
+    let (bvh1, bvh2) = (mesh1.bvh(), mesh2.bvh());
+    let (nodes1, nodes2) = (bvh1.nodes(), bvh2.nodes());
+    let scale = trans12.length() + mesh1.bounding_radius() + mesh2.bounding_radius()
+        + bvh1.root().center.length()
+        + bvh2.root().center.length();
+    let slack = 1e-13 * scale;
+    let mut stack: Vec<(u32, u32)> = vec![(0, 0)];
+    while let Some((n1, n2)) = stack.pop() {
+        let (a, b) = (&nodes1[n1 as usize], &nodes2[n2 as usize]);
+        let rel = RelativeRss::new(&a.rss, &b.rss, &rot12, trans12);
+        if rss_separation(&a.rss, &b.rss, &rel, slack).0 > slack {
+            continue;
+        }
+        match (a.is_leaf(), b.is_leaf()) {
+            (true, true) => {
+                let t1 = &bvh1.leaf_triangles()[a.leaf_position() as usize];
+                let t2 = bvh2.leaf_triangles()[b.leaf_position() as usize].map(|p| rot12 * p + trans12);
+                if intersect_triangle_triangle(t1, &t2)
+                    && !on_pair(bvh1.triangle_index(a.leaf_position()), bvh2.triangle_index(b.leaf_position()))
+                {
+                    return;
+                }
+            }
+            (false, true) => push_children_first(&mut stack, a.children(n1), n2, true),
+            (true, false) => push_children_first(&mut stack, b.children(n2), n1, false),
+            (false, false) => {
+                if a.rss.size() >= b.rss.size() {
+                    push_children_first(&mut stack, a.children(n1), n2, true);
+                } else {
+                    push_children_first(&mut stack, b.children(n2), n1, false);
+                }
+            }
+        }
+    }
+}
+
+fn push_children_first(stack: &mut Vec<(u32, u32)>, children: (u32, u32), other: u32, first: bool) {
+    for c in [children.1, children.0] {
+        stack.push(if first { (c, other) } else { (other, c) });
+    }
+}

@@ -1,0 +1,125 @@
+//! Minimum distance between two meshes: exact, approximate within error bounds, or a
+//! threshold test (`within_distance`) that stops early.
+//!
+//! Branch and bound over the two hierarchies (PQP-style, Larsen et al. 1999): node pairs are
+//! bounded below by [`crate::bvh::Rss`] separation, visited closest first, and pruned when their
+//! bound cannot improve the best triangle pair found so far. An optional [`DistanceCache`]
+//! starts from the last closest triangle pair (motion coherence).
+
+mod distance_point_triangle;
+mod distance_segment_segment;
+mod distance_triangle_triangle;
+pub(crate) mod traverse;
+
+pub use distance_point_triangle::{inside_triangle, project_inside_triangle, triangle_normal};
+pub use distance_segment_segment::closest_points_segment_segment;
+pub use distance_triangle_triangle::{
+    distance_triangle_triangle, intersect_triangle_triangle, TrianglePairDistance,
+};
+
+use crate::error::OptionsError;
+use crate::math::{Pose, Vec3};
+use crate::mesh::TriMesh;
+use traverse::{DistanceSearch, Stop};
+
+/// Options of [`distance`]. The default asks for the exact distance.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DistanceOptions {
+    /// Allowed relative error: the returned distance `d` satisfies
+    /// `true <= d <= true * (1 + relative_error) + absolute_error`. Default 0.
+    pub relative_error: f64,
+    /// Allowed absolute error (model units), see `relative_error`. Default 0.
+    pub absolute_error: f64,
+}
+
+impl Default for DistanceOptions {
+    fn default() -> Self {
+        Self { relative_error: 0.0, absolute_error: 0.0 }
+    }
+}
+
+impl DistanceOptions {
+    fn validate(&self) -> Result<(), OptionsError> {
+        check_non_negative("relative_error", self.relative_error)?;
+        check_non_negative("absolute_error", self.absolute_error)
+    }
+}
+
+pub(crate) fn check_non_negative(name: &'static str, value: f64) -> Result<(), OptionsError> {
+    if value.is_finite() && value >= 0.0 {
+        Ok(())
+    } else {
+        Err(OptionsError::Invalid { name, value })
+    }
+}
+
+/// The closest pair of points between two meshes.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DistanceResult {
+    /// Minimum distance (model units, >= 0; 0 when the meshes touch or intersect).
+    pub distance: f64,
+    /// Closest point on mesh 1, world frame.
+    pub point1: Vec3,
+    /// Closest point on mesh 2, world frame.
+    pub point2: Vec3,
+    /// Index of the triangle of mesh 1 holding `point1`.
+    pub triangle1: usize,
+    /// Index of the triangle of mesh 2 holding `point2`.
+    pub triangle2: usize,
+}
+
+/// Remembers the closest triangle pair of the last query on a mesh pair, so that the next
+/// query on nearby poses starts from it (motion coherence). Use one cache per mesh pair; a cache
+/// used with other meshes is harmless (it is only a starting guess, checked for range).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct DistanceCache {
+    /// Leaf positions (in each hierarchy) of the last closest triangle pair.
+    pub(crate) pair: Option<(u32, u32)>,
+}
+
+/// Exact (or, with error bounds in `options`, approximate) minimum distance between `mesh1` at
+/// `pose1` and `mesh2` at `pose2`, with witness points in the world frame.
+pub fn distance(
+    mesh1: &TriMesh,
+    pose1: &Pose,
+    mesh2: &TriMesh,
+    pose2: &Pose,
+    options: &DistanceOptions,
+) -> Result<DistanceResult, OptionsError> {
+    distance_with_cache(mesh1, pose1, mesh2, pose2, options, &mut DistanceCache::default())
+}
+
+/// [`distance`] warm-started from, and updating, `cache`.
+pub fn distance_with_cache(
+    mesh1: &TriMesh,
+    pose1: &Pose,
+    mesh2: &TriMesh,
+    pose2: &Pose,
+    options: &DistanceOptions,
+    cache: &mut DistanceCache,
+) -> Result<DistanceResult, OptionsError> {
+    options.validate()?;
+    let pos12 = pose1.inv_mul(pose2);
+    let mut search = DistanceSearch::new(mesh1, mesh2, &pos12, options, Stop::Never);
+    search.run(cache.pair);
+    let best = search.best();
+    cache.pair = Some((best.leaf1, best.leaf2));
+    Ok(search.result(pose1))
+}
+
+/// Whether the distance between the meshes is at most `threshold` (model units). Stops as
+/// soon as one triangle pair within the threshold is found.
+pub fn within_distance(
+    mesh1: &TriMesh,
+    pose1: &Pose,
+    mesh2: &TriMesh,
+    pose2: &Pose,
+    threshold: f64,
+) -> Result<bool, OptionsError> {
+    check_non_negative("threshold", threshold)?;
+    let pos12 = pose1.inv_mul(pose2);
+    let options = DistanceOptions::default();
+    let mut search = DistanceSearch::new(mesh1, mesh2, &pos12, &options, Stop::AtOrBelow(threshold));
+    search.run(None);
+    Ok(search.best().distance <= threshold)
+}
