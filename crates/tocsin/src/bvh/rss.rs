@@ -34,7 +34,8 @@ impl Rss {
             hi = hi.max(q);
             magnitude = magnitude.max(q.abs().max_element());
         }
-        let radius = 0.5 * (hi.z - lo.z) + 1e-12 * magnitude + f64::MIN_POSITIVE;
+        // Fit with the exact half spread, then inflate: the margin must cover rounding only.
+        let radius = 0.5 * (hi.z - lo.z);
         let cz = 0.5 * (hi.z + lo.z);
         // Shrink the rectangle in x and y while every point stays covered by the round ends.
         let (mut x0, mut x1) = (f64::INFINITY, f64::NEG_INFINITY);
@@ -61,7 +62,7 @@ impl Rss {
             axes,
             center: axes * local_center,
             half_lengths: [0.5 * (x1 - x0), 0.5 * (y1 - y0)],
-            radius,
+            radius: radius + 1e-12 * magnitude + f64::MIN_POSITIVE,
         }
     }
 

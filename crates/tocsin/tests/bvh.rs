@@ -1,0 +1,66 @@
+//! The hierarchy's invariant: every triangle lies inside the RSS of its leaf and of every
+//! ancestor, and the tree covers each triangle exactly once.
+
+mod common;
+use common::*;
+use tocsin::bvh::Rss;
+use tocsin::{mesh, TriMesh, Vec3};
+
+fn inside(rss: &Rss, p: Vec3) -> bool {
+    let q = rss.axes.transpose() * (p - rss.center);
+    let dx = (q.x.abs() - rss.half_lengths[0]).max(0.0);
+    let dy = (q.y.abs() - rss.half_lengths[1]).max(0.0);
+    (dx * dx + dy * dy + q.z * q.z).sqrt() <= rss.radius * (1.0 + 1e-9)
+}
+
+fn check(m: &TriMesh) {
+    let bvh = m.bvh();
+    let nodes = bvh.nodes();
+    assert_eq!(nodes.len(), 2 * m.num_triangles() - 1);
+    let mut seen = vec![0; m.num_triangles()];
+    // (node index, ancestors)
+    let mut stack = vec![(0u32, Vec::<u32>::new())];
+    while let Some((i, mut path)) = stack.pop() {
+        let node = &nodes[i as usize];
+        path.push(i);
+        if node.is_leaf() {
+            let tri = bvh.triangle_index(node.leaf_position());
+            seen[tri] += 1;
+            assert_eq!(bvh.leaf_triangles()[node.leaf_position() as usize], m.triangle(tri));
+            for &a in &path {
+                for p in m.triangle(tri) {
+                    assert!(inside(&nodes[a as usize].rss, p), "vertex {p} outside node {a}");
+                }
+            }
+        } else {
+            let (l, r) = node.children(i);
+            stack.push((l, path.clone()));
+            stack.push((r, path));
+        }
+    }
+    assert!(seen.iter().all(|&c| c == 1));
+}
+
+#[test]
+fn volumes_contain_their_triangles() {
+    let mut rng = rng(30);
+    for scale in [1e-3, 1.0, 1e4] {
+        for n in [1, 2, 3, 17, 64] {
+            check(&random_soup(&mut rng, n, scale));
+        }
+    }
+    check(&mesh::torus_knot(175, 8).unwrap());
+    check(&mesh::plate(2.0, 10).unwrap());
+    // All triangles identical: the split must still terminate and cover each once.
+    let v = vec![Vec3::ZERO, Vec3::X, Vec3::Y];
+    check(&TriMesh::new(v, vec![[0, 1, 2]; 50]).unwrap());
+}
+
+#[test]
+fn build_is_deterministic() {
+    let a = mesh::torus_knot(344, 16).unwrap();
+    let b = mesh::torus_knot(344, 16).unwrap();
+    let key = |m: &TriMesh| m.bvh().nodes().iter().map(|n| (n.rss.center.to_array(), n.rss.radius)).collect::<Vec<_>>();
+    assert_eq!(key(&a), key(&b));
+}
+
