@@ -33,11 +33,17 @@ impl Default for Pose {
 
 impl Pose {
     /// The identity transform.
-    pub const IDENTITY: Pose = Pose { rotation: Mat3::IDENTITY, translation: Vec3::ZERO };
+    pub const IDENTITY: Pose = Pose {
+        rotation: Mat3::IDENTITY,
+        translation: Vec3::ZERO,
+    };
 
     /// A pure translation.
     pub fn from_translation(translation: Vec3) -> Self {
-        Self { rotation: Mat3::IDENTITY, translation }
+        Self {
+            rotation: Mat3::IDENTITY,
+            translation,
+        }
     }
 
     /// A pose from a rotation and a translation, checking that `rotation` is a proper rotation
@@ -47,13 +53,19 @@ impl Pose {
         if !translation.is_finite() {
             return Err(PoseError::NonFinite);
         }
-        Ok(Self { rotation, translation })
+        Ok(Self {
+            rotation,
+            translation,
+        })
     }
 
     /// A pose from a rotation about `axis` (need not be unit) by `angle` radians, and a translation.
     pub fn from_axis_angle(axis: Vec3, angle: f64, translation: Vec3) -> Self {
         let axis = axis.normalize_or(Vec3::Z);
-        Self { rotation: Mat3::from_axis_angle(axis, angle), translation }
+        Self {
+            rotation: Mat3::from_axis_angle(axis, angle),
+            translation,
+        }
     }
 
     /// A pose from a 4x4 homogeneous matrix (the convention of trimesh and robotics: the last
@@ -65,12 +77,19 @@ impl Pose {
         }
         let last_row = [cols[0][3], cols[1][3], cols[2][3], cols[3][3]];
         let expected = [0.0, 0.0, 0.0, 1.0];
-        if last_row.iter().zip(expected).any(|(a, b)| (a - b).abs() > tolerance) {
+        if last_row
+            .iter()
+            .zip(expected)
+            .any(|(a, b)| (a - b).abs() > tolerance)
+        {
             return Err(PoseError::NotHomogeneous { last_row });
         }
         let rotation = Mat3::from_mat4(*m);
         check_rotation(&rotation, tolerance)?;
-        Ok(Self { rotation, translation: m.w_axis.truncate() })
+        Ok(Self {
+            rotation,
+            translation: m.w_axis.truncate(),
+        })
     }
 
     /// The pose as a 4x4 homogeneous matrix.
@@ -99,7 +118,10 @@ impl Pose {
     #[inline]
     pub fn inverse(&self) -> Self {
         let rt = self.rotation.transpose();
-        Self { rotation: rt, translation: -(rt * self.translation) }
+        Self {
+            rotation: rt,
+            translation: -(rt * self.translation),
+        }
     }
 
     /// Composition `self * other`: first `other`, then `self`.
@@ -125,7 +147,10 @@ pub fn check_rotation(r: &Mat3, tolerance: f64) -> Result<(), PoseError> {
         return Err(PoseError::NonFinite);
     }
     let rtr = r.transpose() * *r;
-    let err = (rtr - Mat3::IDENTITY).to_cols_array().iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+    let err = (rtr - Mat3::IDENTITY)
+        .to_cols_array()
+        .iter()
+        .fold(0.0_f64, |m, v| m.max(v.abs()));
     if err > tolerance {
         return Err(PoseError::NotOrthonormal { error: err });
     }

@@ -1,6 +1,8 @@
 //! The hierarchy's invariant: every triangle lies inside the RSS of its leaf and of every
 //! ancestor, and the tree covers each triangle exactly once.
 
+#![allow(clippy::unwrap_used, clippy::panic)]
+
 mod common;
 use common::*;
 use tocsin::bvh::Rss;
@@ -26,10 +28,16 @@ fn check(m: &TriMesh) {
         if node.is_leaf() {
             let tri = bvh.triangle_index(node.leaf_position());
             seen[tri] += 1;
-            assert_eq!(bvh.leaf_triangles()[node.leaf_position() as usize], m.triangle(tri));
+            assert_eq!(
+                bvh.leaf_triangles()[node.leaf_position() as usize],
+                m.triangle(tri)
+            );
             for &a in &path {
                 for p in m.triangle(tri) {
-                    assert!(inside(&nodes[a as usize].rss, p), "vertex {p} outside node {a}");
+                    assert!(
+                        inside(&nodes[a as usize].rss, p),
+                        "vertex {p} outside node {a}"
+                    );
                 }
             }
         } else {
@@ -60,7 +68,12 @@ fn volumes_contain_their_triangles() {
 fn build_is_deterministic() {
     let a = mesh::torus_knot(344, 16).unwrap();
     let b = mesh::torus_knot(344, 16).unwrap();
-    let key = |m: &TriMesh| m.bvh().nodes().iter().map(|n| (n.rss.center.to_array(), n.rss.radius)).collect::<Vec<_>>();
+    let key = |m: &TriMesh| {
+        m.bvh()
+            .nodes()
+            .iter()
+            .map(|n| (n.rss.center.to_array(), n.rss.radius))
+            .collect::<Vec<_>>()
+    };
     assert_eq!(key(&a), key(&b));
 }
-

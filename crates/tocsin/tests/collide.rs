@@ -1,5 +1,7 @@
 //! `collide` and `collide_pairs` against brute force over all triangle pairs.
 
+#![allow(clippy::unwrap_used, clippy::panic)]
+
 mod common;
 use common::*;
 use tocsin::{collide, collide_pairs, mesh, Pose, TriMesh, Vec3};
@@ -15,12 +17,23 @@ fn random_soups_match_brute_force() {
             let spread = scale * [0.3, 1.0, 3.0][i % 3];
             let (p1, p2) = (random_pose(&mut rng, spread), random_pose(&mut rng, spread));
             let brute = brute_pairs(&m1, &p1, &m2, &p2);
-            assert_eq!(collide(&m1, &p1, &m2, &p2), !brute.is_empty(), "collide, case {i} scale {scale}");
-            assert_eq!(collide_pairs(&m1, &p1, &m2, &p2), brute, "pairs, case {i} scale {scale}");
+            assert_eq!(
+                collide(&m1, &p1, &m2, &p2),
+                !brute.is_empty(),
+                "collide, case {i} scale {scale}"
+            );
+            assert_eq!(
+                collide_pairs(&m1, &p1, &m2, &p2),
+                brute,
+                "pairs, case {i} scale {scale}"
+            );
             hits += usize::from(!brute.is_empty());
         }
     }
-    assert!(hits > 50 && hits < 550, "the sample should mix colliding and free cases, got {hits}");
+    assert!(
+        hits > 50 && hits < 550,
+        "the sample should mix colliding and free cases, got {hits}"
+    );
 }
 
 #[test]
@@ -48,8 +61,14 @@ fn hand_cases() {
     assert!(!c(&at(5.0, 0.0, 0.0)), "far apart");
     // Coplanar overlapping triangles.
     let t1 = TriMesh::new(vec![Vec3::ZERO, Vec3::X, Vec3::Y], vec![[0, 1, 2]]).unwrap();
-    assert!(collide(&t1, &Pose::IDENTITY, &t1, &at(0.2, 0.2, 0.0)), "coplanar overlap");
-    assert!(!collide(&t1, &Pose::IDENTITY, &t1, &at(0.6, 0.6, 0.0)), "coplanar apart");
+    assert!(
+        collide(&t1, &Pose::IDENTITY, &t1, &at(0.2, 0.2, 0.0)),
+        "coplanar overlap"
+    );
+    assert!(
+        !collide(&t1, &Pose::IDENTITY, &t1, &at(0.6, 0.6, 0.0)),
+        "coplanar apart"
+    );
     // Nested surfaces do not intersect (no inside in a soup); a crossing one does.
     let big = mesh::box_mesh(Vec3::splat(2.0)).unwrap();
     assert!(!collide(&big, &Pose::IDENTITY, &cube, &Pose::IDENTITY));

@@ -1,5 +1,7 @@
 //! `within_distance` against the brute-force distance, around the threshold.
 
+#![allow(clippy::unwrap_used, clippy::panic)]
+
 mod common;
 use common::*;
 use tocsin::{mesh, within_distance, Pose, Vec3};
@@ -11,11 +13,18 @@ fn random_soups_match_brute_force() {
         let scale = [1e-3, 1.0, 1e4][i % 3];
         let m1 = random_soup(&mut rng, 1 + i % 30, scale);
         let m2 = random_soup(&mut rng, 1 + (i * 5) % 29, scale);
-        let (p1, p2) = (random_pose(&mut rng, 2.0 * scale), random_pose(&mut rng, 2.0 * scale));
+        let (p1, p2) = (
+            random_pose(&mut rng, 2.0 * scale),
+            random_pose(&mut rng, 2.0 * scale),
+        );
         let (d, _, _) = brute_distance(&m1, &p1, &m2, &p2);
         for f in [0.0, 0.5, 0.999, 1.001, 2.0] {
             let threshold = d * f;
-            assert_eq!(within_distance(&m1, &p1, &m2, &p2, threshold).unwrap(), d <= threshold, "case {i}, factor {f}");
+            assert_eq!(
+                within_distance(&m1, &p1, &m2, &p2, threshold).unwrap(),
+                d <= threshold,
+                "case {i}, factor {f}"
+            );
         }
     }
 }

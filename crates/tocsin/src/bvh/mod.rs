@@ -10,7 +10,7 @@ mod eigen;
 mod rss;
 
 pub use rss::Rss;
-pub(crate) use rss::{rss_separation, RelativeRss};
+pub(crate) use rss::{rss_separation, ASide, BSide, RelativeRss};
 
 use crate::math::Vec3;
 

@@ -68,7 +68,7 @@ impl Rss {
 
     /// Radius of a ball about `center` that contains the volume.
     pub fn bounding_radius(&self) -> f64 {
-        self.half_lengths[0].hypot(self.half_lengths[1]) + self.radius
+        self.half_lengths[0] + self.half_lengths[1] + self.radius
     }
 
     /// A size used to choose which of two volumes to split first during traversal.
@@ -91,8 +91,61 @@ impl RelativeRss {
     /// `b`'s frame in `a`'s frame, where `rot12`, `trans12` map `b`'s mesh frame into `a`'s.
     #[inline]
     pub(crate) fn new(a: &Rss, b: &Rss, rot12: &Mat3, trans12: Vec3) -> Self {
+        Self::from_a_side(&ASide::new(a, rot12, trans12), b)
+    }
+
+    /// `b` in `a`'s frame from `a`'s precomputed side (one matrix product).
+    #[inline]
+    pub(crate) fn from_a_side(a: &ASide, b: &Rss) -> Self {
+        Self {
+            r: a.q * b.axes,
+            t: a.q * b.center + a.q0,
+        }
+    }
+
+    /// `b` in `a`'s frame from `b`'s precomputed side (one matrix product).
+    #[inline]
+    pub(crate) fn from_b_side(a: &Rss, b: &BSide) -> Self {
         let at = a.axes.transpose();
-        Self { r: at * (*rot12 * b.axes), t: at * (*rot12 * b.center + trans12 - a.center) }
+        Self {
+            r: at * b.axes,
+            t: at * (b.center - a.center),
+        }
+    }
+}
+
+/// What a pair `(a, b)` shares for all `b`: `q = Ra^T R12`, `q0 = Ra^T (t12 - ca)`.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct ASide {
+    q: Mat3,
+    q0: Vec3,
+}
+
+impl ASide {
+    #[inline]
+    pub(crate) fn new(a: &Rss, rot12: &Mat3, trans12: Vec3) -> Self {
+        let at = a.axes.transpose();
+        Self {
+            q: at * *rot12,
+            q0: at * (trans12 - a.center),
+        }
+    }
+}
+
+/// What a pair `(a, b)` shares for all `a`: `b`'s axes and centre in mesh 1's frame.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct BSide {
+    axes: Mat3,
+    center: Vec3,
+}
+
+impl BSide {
+    #[inline]
+    pub(crate) fn new(b: &Rss, rot12: &Mat3, trans12: Vec3) -> Self {
+        Self {
+            axes: *rot12 * b.axes,
+            center: *rot12 * b.center + trans12,
+        }
     }
 }
 
@@ -108,51 +161,98 @@ impl RelativeRss {
 pub(crate) fn rss_separation(a: &Rss, b: &Rss, rel: &RelativeRss, cutoff: f64) -> (f64, Vec3) {
     let (la0, la1) = (a.half_lengths[0], a.half_lengths[1]);
     let (lb0, lb1) = (b.half_lengths[0], b.half_lengths[1]);
-    let radii = a.radius + b.radius;
-    let (r0, r1, r2) = (rel.r.x_axis, rel.r.y_axis, rel.r.z_axis);
+    let rr = a.radius + b.radius;
+    // r[i][j] = a_i . b_j (row i, column j), t in a's frame.
+    let c = rel.r.to_cols_array_2d();
+    let r = |i: usize, j: usize| c[j][i];
+    let ar = |i: usize, j: usize| c[j][i].abs();
     let t = rel.t;
-    let mut best = f64::NEG_INFINITY;
-    let mut best_axis = Vec3::Z;
-    // Gap along a direction `n` of length `len` (> 0), given the dot products it needs.
-    let mut consider = |n: Vec3, len: f64, n_r0: f64, n_r1: f64| -> bool {
-        if len <= 1e-12 {
-            return false;
+    let bt = [
+        rel.r.x_axis.dot(t),
+        rel.r.y_axis.dot(t),
+        rel.r.z_axis.dot(t),
+    ];
+    // Face axes of both rectangles: unit, so the gap needs no division.
+    let faces = [
+        t.z.abs() - lb0 * ar(2, 0) - lb1 * ar(2, 1),
+        t.x.abs() - la0 - lb0 * ar(0, 0) - lb1 * ar(0, 1),
+        t.y.abs() - la1 - lb0 * ar(1, 0) - lb1 * ar(1, 1),
+        bt[2].abs() - la0 * ar(0, 2) - la1 * ar(1, 2),
+        bt[0].abs() - la0 * ar(0, 0) - la1 * ar(1, 0) - lb0,
+        bt[1].abs() - la0 * ar(0, 1) - la1 * ar(1, 1) - lb1,
+    ];
+    let mut which = 0;
+    for (k, &g) in faces.iter().enumerate().skip(1) {
+        if g > faces[which] {
+            which = k;
         }
-        let nt = n.dot(t);
-        let gap = (nt.abs() - la0 * n.x.abs() - la1 * n.y.abs() - lb0 * n_r0.abs() - lb1 * n_r1.abs())
-            / len
-            - radii;
-        if gap > best {
-            best = gap;
-            best_axis = n * (nt.signum() / len);
-        }
-        best >= cutoff
-    };
-    let tl = t.length();
-    if consider(t, tl, t.dot(r0), t.dot(r1))
-        || consider(Vec3::Z, 1.0, r0.z, r1.z)
-        || consider(r2, 1.0, 0.0, 0.0)
-        || consider(Vec3::X, 1.0, r0.x, r1.x)
-        || consider(Vec3::Y, 1.0, r0.y, r1.y)
-        || consider(Vec3::new(r0.x, r0.y, r0.z), 1.0, 1.0, 0.0)
-        || consider(Vec3::new(r1.x, r1.y, r1.z), 1.0, 0.0, 1.0)
-    {
-        return (best.max(0.0), best_axis);
     }
-    // Cross products of the rectangle edges: e_i x r_j, with (e_i x r_j).r_k = e_i.(r_j x r_k).
-    for (j, rj) in [(0, r0), (1, r1)] {
-        let sign = if j == 0 { 1.0 } else { -1.0 };
-        let candidates = [
-            (Vec3::new(0.0, -rj.z, rj.y), sign * r2.x),
-            (Vec3::new(rj.z, 0.0, -rj.x), sign * r2.y),
-            (Vec3::new(-rj.y, rj.x, 0.0), sign * r2.z),
+    let face_axis = |k: usize| match k {
+        0 => Vec3::Z * t.z.signum(),
+        1 => Vec3::X * t.x.signum(),
+        2 => Vec3::Y * t.y.signum(),
+        3 => rel.r.z_axis * bt[2].signum(),
+        4 => rel.r.x_axis * bt[0].signum(),
+        _ => rel.r.y_axis * bt[1].signum(),
+    };
+    let mut best = faces[which] - rr;
+    if best >= cutoff {
+        return (best.max(0.0), face_axis(which));
+    }
+    let mut axis = None;
+    // Cross products e_i x b_j: a positive numerator is needed to beat the face axes, and
+    // near-parallel edge pairs (tiny cross product) are skipped.
+    let lb = [lb0, lb1];
+    for j in 0..2 {
+        let o = 1 - j;
+        let crosses = [
+            (
+                r(1, j) * t.z - r(2, j) * t.y,
+                la1 * ar(2, j) + lb[o] * ar(0, 2),
+                r(0, j),
+            ),
+            (
+                r(2, j) * t.x - r(0, j) * t.z,
+                la0 * ar(2, j) + lb[o] * ar(1, 2),
+                r(1, j),
+            ),
+            (
+                r(0, j) * t.y - r(1, j) * t.x,
+                la0 * ar(1, j) + la1 * ar(0, j) + lb[o] * ar(2, 2),
+                r(2, j),
+            ),
         ];
-        for (n, n_other) in candidates {
-            let (n_r0, n_r1) = if j == 0 { (0.0, n_other) } else { (n_other, 0.0) };
-            if consider(n, n.length(), n_r0, n_r1) {
-                return (best.max(0.0), best_axis);
+        for (i, (nt, extent, rij)) in crosses.into_iter().enumerate() {
+            let g = nt.abs() - extent;
+            let len2 = 1.0 - rij * rij;
+            let beat = (best + rr).max(0.0);
+            if g > 0.0 && len2 > 1e-12 && g * g > beat * beat * len2 {
+                let len = len2.sqrt();
+                best = g / len - rr;
+                axis = Some((i, j, nt.signum() / len));
+                if best >= cutoff {
+                    break;
+                }
             }
         }
     }
-    (best.max(0.0), best_axis)
+    if best < cutoff {
+        // The centre line.
+        let tl = t.length();
+        if tl > 0.0 {
+            let g = tl
+                - (la0 * t.x.abs() + la1 * t.y.abs() + lb0 * bt[0].abs() + lb1 * bt[1].abs()) / tl;
+            if g - rr > best {
+                return ((g - rr).max(0.0), t / tl);
+            }
+        }
+    }
+    let axis = match axis {
+        None => face_axis(which),
+        Some((i, j, scale)) => {
+            let bj = rel.r.col(j);
+            Vec3::new([1.0, 0.0, 0.0][i], [0.0, 1.0, 0.0][i], [0.0, 0.0, 1.0][i]).cross(bj) * scale
+        }
+    };
+    (best.max(0.0), axis)
 }

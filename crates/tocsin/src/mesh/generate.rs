@@ -65,7 +65,9 @@ pub fn sphere(radius: f64, n_lat: usize, n_lon: usize) -> Result<TriMesh, MeshEr
         let polar = std::f64::consts::PI * i as f64 / n_lat as f64;
         for j in 0..n_lon {
             let az = TAU * j as f64 / n_lon as f64;
-            vertices.push(radius * Vec3::new(polar.sin() * az.cos(), polar.sin() * az.sin(), polar.cos()));
+            vertices.push(
+                radius * Vec3::new(polar.sin() * az.cos(), polar.sin() * az.sin(), polar.cos()),
+            );
         }
     }
     let ring = |i: usize, j: usize| (2 + (i - 1) * n_lon + j % n_lon) as u32;
@@ -74,7 +76,12 @@ pub fn sphere(radius: f64, n_lat: usize, n_lon: usize) -> Result<TriMesh, MeshEr
         triangles.push([0, ring(1, j), ring(1, j + 1)]);
         triangles.push([1, ring(n_lat - 1, j + 1), ring(n_lat - 1, j)]);
         for i in 1..n_lat - 1 {
-            let (a, b, c, d) = (ring(i, j), ring(i + 1, j), ring(i + 1, j + 1), ring(i, j + 1));
+            let (a, b, c, d) = (
+                ring(i, j),
+                ring(i + 1, j),
+                ring(i + 1, j + 1),
+                ring(i, j + 1),
+            );
             triangles.push([a, b, c]);
             triangles.push([a, c, d]);
         }
@@ -86,16 +93,27 @@ pub fn sphere(radius: f64, n_lat: usize, n_lon: usize) -> Result<TriMesh, MeshEr
 pub fn box_mesh(half_extents: Vec3) -> Result<TriMesh, MeshError> {
     let h = half_extents;
     let vertices = (0..8)
-        .map(|i| Vec3::new(
-            if i & 1 == 0 { -h.x } else { h.x },
-            if i & 2 == 0 { -h.y } else { h.y },
-            if i & 4 == 0 { -h.z } else { h.z },
-        ))
+        .map(|i| {
+            Vec3::new(
+                if i & 1 == 0 { -h.x } else { h.x },
+                if i & 2 == 0 { -h.y } else { h.y },
+                if i & 4 == 0 { -h.z } else { h.z },
+            )
+        })
         .collect();
     let triangles = vec![
-        [0, 2, 3], [0, 3, 1], [4, 5, 7], [4, 7, 6], // z- and z+
-        [0, 1, 5], [0, 5, 4], [2, 6, 7], [2, 7, 3], // y- and y+
-        [0, 4, 6], [0, 6, 2], [1, 3, 7], [1, 7, 5], // x- and x+
+        [0, 2, 3],
+        [0, 3, 1],
+        [4, 5, 7],
+        [4, 7, 6], // z- and z+
+        [0, 1, 5],
+        [0, 5, 4],
+        [2, 6, 7],
+        [2, 7, 3], // y- and y+
+        [0, 4, 6],
+        [0, 6, 2],
+        [1, 3, 7],
+        [1, 7, 5], // x- and x+
     ];
     build(vertices, triangles)
 }

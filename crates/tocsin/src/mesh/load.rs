@@ -10,15 +10,24 @@ use crate::math::Vec3;
 type Raw = (Vec<Vec3>, Vec<[u32; 3]>);
 
 pub(super) fn load_file(path: &Path) -> Result<Raw, MeshError> {
-    let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
     let format = match ext.as_deref() {
         Some("obj") => "OBJ",
         Some("stl") => "STL",
         Some("ply") => "PLY",
-        _ => return Err(MeshError::UnknownFormat { path: path.to_path_buf() }),
+        _ => {
+            return Err(MeshError::UnknownFormat {
+                path: path.to_path_buf(),
+            })
+        }
     };
-    let bytes = std::fs::read(path)
-        .map_err(|source| MeshError::Io { path: path.to_path_buf(), source })?;
+    let bytes = std::fs::read(path).map_err(|source| MeshError::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
     let parse_error = |line, message: String| MeshError::Parse {
         path: path.to_path_buf(),
         format,
@@ -37,7 +46,11 @@ fn index_u32(i: usize) -> Result<u32, String> {
 }
 
 fn read_obj(bytes: &[u8]) -> Result<Raw, (Option<usize>, String)> {
-    let options = tobj::LoadOptions { triangulate: true, single_index: false, ..Default::default() };
+    let options = tobj::LoadOptions {
+        triangulate: true,
+        single_index: false,
+        ..Default::default()
+    };
     let mut reader = Cursor::new(bytes);
     // Materials are irrelevant to geometry: never open .mtl files.
     let (models, _) = tobj::load_obj_buf(&mut reader, &options, |_| {
@@ -49,7 +62,11 @@ fn read_obj(bytes: &[u8]) -> Result<Raw, (Option<usize>, String)> {
     for model in models {
         let base = vertices.len();
         let m = model.mesh;
-        vertices.extend(m.positions.chunks_exact(3).map(|p| Vec3::new(p[0], p[1], p[2])));
+        vertices.extend(
+            m.positions
+                .chunks_exact(3)
+                .map(|p| Vec3::new(p[0], p[1], p[2])),
+        );
         for t in m.indices.chunks_exact(3) {
             let mut tri = [0u32; 3];
             for k in 0..3 {
@@ -80,9 +97,12 @@ fn first_bad_obj_line(bytes: &[u8]) -> Option<usize> {
                 let refs: Vec<&str> = words.collect();
                 let ok = refs.len() >= 3
                     && refs.iter().all(|r| {
-                        r.split('/').next().and_then(|s| s.parse::<i64>().ok()).is_some_and(|k| {
-                            (k > 0 && k <= num_vertices) || (k < 0 && -k <= num_vertices)
-                        })
+                        r.split('/')
+                            .next()
+                            .and_then(|s| s.parse::<i64>().ok())
+                            .is_some_and(|k| {
+                                (k > 0 && k <= num_vertices) || (k < 0 && -k <= num_vertices)
+                            })
                     });
                 if !ok {
                     return Some(i + 1);
@@ -104,7 +124,13 @@ fn read_stl(bytes: &[u8]) -> Result<Raw, String> {
     let triangles = mesh
         .faces
         .iter()
-        .map(|f| Ok([index_u32(f.vertices[0])?, index_u32(f.vertices[1])?, index_u32(f.vertices[2])?]))
+        .map(|f| {
+            Ok([
+                index_u32(f.vertices[0])?,
+                index_u32(f.vertices[1])?,
+                index_u32(f.vertices[2])?,
+            ])
+        })
         .collect::<Result<_, String>>()?;
     Ok((vertices, triangles))
 }
@@ -112,7 +138,9 @@ fn read_stl(bytes: &[u8]) -> Result<Raw, String> {
 fn read_ply(bytes: &[u8]) -> Result<Raw, String> {
     use ply_rs_bw::ply::{DefaultElement, Property};
     let parser = ply_rs_bw::parser::Parser::<DefaultElement>::new();
-    let ply = parser.read_ply(&mut Cursor::new(bytes)).map_err(|e| e.to_string())?;
+    let ply = parser
+        .read_ply(&mut Cursor::new(bytes))
+        .map_err(|e| e.to_string())?;
     let scalar = |p: &Property| -> Option<f64> {
         Some(match p {
             Property::Char(v) => f64::from(*v),
@@ -158,12 +186,21 @@ fn read_ply(bytes: &[u8]) -> Result<Raw, String> {
             .and_then(list)
             .ok_or_else(|| format!("face {i} has no integer list `vertex_indices`"))?;
         if idx.len() < 3 {
-            return Err(format!("face {i} has {} vertices, at least 3 are needed", idx.len()));
+            return Err(format!(
+                "face {i} has {} vertices, at least 3 are needed",
+                idx.len()
+            ));
         }
         let to_u32 = |k: i64| {
-            u32::try_from(k).ok().filter(|&k| (k as usize) < vertices.len()).ok_or_else(|| {
-                format!("face {i}: vertex index {k} is out of range ({} vertices)", vertices.len())
-            })
+            u32::try_from(k)
+                .ok()
+                .filter(|&k| (k as usize) < vertices.len())
+                .ok_or_else(|| {
+                    format!(
+                        "face {i}: vertex index {k} is out of range ({} vertices)",
+                        vertices.len()
+                    )
+                })
         };
         // Fan triangulation of the polygon.
         for j in 1..idx.len() - 1 {

@@ -32,7 +32,11 @@ impl TriMesh {
     pub fn new(vertices: Vec<Vec3>, triangles: Vec<[u32; 3]>) -> Result<Self, MeshError> {
         validate(&vertices, triangles.iter().map(|t| t.map(i64::from)))?;
         let bvh = Bvh::build(&vertices, &triangles);
-        Ok(Self { vertices, triangles, bvh })
+        Ok(Self {
+            vertices,
+            triangles,
+            bvh,
+        })
     }
 
     /// Builds a mesh from borrowed arrays, with signed indices so that negative indices are
@@ -51,8 +55,10 @@ impl TriMesh {
     pub fn load(path: impl AsRef<std::path::Path>) -> Result<Self, MeshError> {
         let path = path.as_ref();
         let (vertices, triangles) = load::load_file(path)?;
-        Self::new(vertices, triangles)
-            .map_err(|e| MeshError::InFile { path: path.to_path_buf(), source: Box::new(e) })
+        Self::new(vertices, triangles).map_err(|e| MeshError::InFile {
+            path: path.to_path_buf(),
+            source: Box::new(e),
+        })
     }
 
     /// The vertex coordinates, body frame.
@@ -112,7 +118,11 @@ fn validate(
     for (vertex, v) in vertices.iter().enumerate() {
         for (k, axis) in ['x', 'y', 'z'].into_iter().enumerate() {
             if !v[k].is_finite() {
-                return Err(MeshError::NonFiniteCoordinate { vertex, axis, value: v[k] });
+                return Err(MeshError::NonFiniteCoordinate {
+                    vertex,
+                    axis,
+                    value: v[k],
+                });
             }
         }
     }

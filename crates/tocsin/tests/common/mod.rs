@@ -12,7 +12,11 @@ pub fn rng(seed: u64) -> ChaCha8Rng {
 
 pub fn random_unit(rng: &mut impl Rng) -> Vec3 {
     loop {
-        let v = Vec3::new(rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0));
+        let v = Vec3::new(
+            rng.random_range(-1.0..1.0),
+            rng.random_range(-1.0..1.0),
+            rng.random_range(-1.0..1.0),
+        );
         let l = v.length();
         if l > 0.1 && l <= 1.0 {
             return v / l;
@@ -21,13 +25,20 @@ pub fn random_unit(rng: &mut impl Rng) -> Vec3 {
 }
 
 pub fn random_rotation(rng: &mut impl Rng) -> Mat3 {
-    Mat3::from_axis_angle(random_unit(rng), rng.random_range(0.0..std::f64::consts::PI))
+    Mat3::from_axis_angle(
+        random_unit(rng),
+        rng.random_range(0.0..std::f64::consts::PI),
+    )
 }
 
 pub fn random_pose(rng: &mut impl Rng, spread: f64) -> Pose {
     Pose {
         rotation: random_rotation(rng),
-        translation: Vec3::new(rng.random_range(-spread..spread), rng.random_range(-spread..spread), rng.random_range(-spread..spread)),
+        translation: Vec3::new(
+            rng.random_range(-spread..spread),
+            rng.random_range(-spread..spread),
+            rng.random_range(-spread..spread),
+        ),
     }
 }
 
@@ -36,15 +47,22 @@ pub fn random_pose(rng: &mut impl Rng, spread: f64) -> Pose {
 pub fn random_soup(rng: &mut impl Rng, n: usize, scale: f64) -> TriMesh {
     let nv = 3 * n + 2;
     let vertices: Vec<Vec3> = (0..nv)
-        .map(|_| scale * Vec3::new(rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0)))
+        .map(|_| {
+            scale
+                * Vec3::new(
+                    rng.random_range(-1.0..1.0),
+                    rng.random_range(-1.0..1.0),
+                    rng.random_range(-1.0..1.0),
+                )
+        })
         .collect();
     let mut triangles = Vec::new();
     for i in 0..n {
         let base = (3 * i) as u32;
         let kind = rng.random_range(0..10);
         let t = match kind {
-            0 => [base, base, base],         // a point
-            1 => [base, base + 1, base],     // a segment
+            0 => [base, base, base],     // a point
+            1 => [base, base + 1, base], // a segment
             2 if !triangles.is_empty() => triangles[rng.random_range(0..triangles.len())], // duplicate
             _ => [base, base + 1, base + 2],
         };
@@ -160,20 +178,33 @@ pub fn oracle_segment_hits_triangle(p: Vec3, q: Vec3, t: &[Vec3; 3]) -> bool {
 pub fn oracle_triangle_distance(a: &[Vec3; 3], b: &[Vec3; 3]) -> f64 {
     for i in 0..3 {
         let j = (i + 1) % 3;
-        if oracle_segment_hits_triangle(a[i], a[j], b) || oracle_segment_hits_triangle(b[i], b[j], a) {
+        if oracle_segment_hits_triangle(a[i], a[j], b)
+            || oracle_segment_hits_triangle(b[i], b[j], a)
+        {
             return 0.0;
         }
     }
     let mut best = f64::INFINITY;
     for i in 0..3 {
-        best = best.min(oracle_point_triangle(a[i], b)).min(oracle_point_triangle(b[i], a));
+        best = best
+            .min(oracle_point_triangle(a[i], b))
+            .min(oracle_point_triangle(b[i], a));
         for j in 0..3 {
-            best = best.min(oracle_segment_segment(a[i], a[(i + 1) % 3], b[j], b[(j + 1) % 3]));
+            best = best.min(oracle_segment_segment(
+                a[i],
+                a[(i + 1) % 3],
+                b[j],
+                b[(j + 1) % 3],
+            ));
         }
     }
     best
 }
 
 pub fn assert_rel(a: f64, b: f64, rel: f64, abs: f64, what: &str) {
-    assert!((a - b).abs() <= rel * a.abs().max(b.abs()) + abs, "{what}: {a} vs {b} (diff {:e})", (a - b).abs());
+    assert!(
+        (a - b).abs() <= rel * a.abs().max(b.abs()) + abs,
+        "{what}: {a} vs {b} (diff {:e})",
+        (a - b).abs()
+    );
 }

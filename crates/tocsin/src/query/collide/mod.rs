@@ -22,7 +22,12 @@ pub fn collide(mesh1: &TriMesh, pose1: &Pose, mesh2: &TriMesh, pose2: &Pose) -> 
 
 /// All intersecting (or touching) triangle pairs `[triangle of mesh 1, triangle of mesh 2]`,
 /// sorted.
-pub fn collide_pairs(mesh1: &TriMesh, pose1: &Pose, mesh2: &TriMesh, pose2: &Pose) -> Vec<[usize; 2]> {
+pub fn collide_pairs(
+    mesh1: &TriMesh,
+    pose1: &Pose,
+    mesh2: &TriMesh,
+    pose2: &Pose,
+) -> Vec<[usize; 2]> {
     let mut pairs = Vec::new();
     traverse(mesh1, pose1, mesh2, pose2, &mut |i, j| {
         pairs.push([i, j]);
@@ -44,7 +49,9 @@ fn traverse(
     let (rot12, trans12) = (pos12.rotation, pos12.translation);
     let (bvh1, bvh2) = (mesh1.bvh(), mesh2.bvh());
     let (nodes1, nodes2) = (bvh1.nodes(), bvh2.nodes());
-    let scale = trans12.length() + mesh1.bounding_radius() + mesh2.bounding_radius()
+    let scale = trans12.length()
+        + mesh1.bounding_radius()
+        + mesh2.bounding_radius()
         + bvh1.root().center.length()
         + bvh2.root().center.length();
     let slack = 1e-13 * scale;
@@ -58,9 +65,13 @@ fn traverse(
         match (a.is_leaf(), b.is_leaf()) {
             (true, true) => {
                 let t1 = &bvh1.leaf_triangles()[a.leaf_position() as usize];
-                let t2 = bvh2.leaf_triangles()[b.leaf_position() as usize].map(|p| rot12 * p + trans12);
+                let t2 =
+                    bvh2.leaf_triangles()[b.leaf_position() as usize].map(|p| rot12 * p + trans12);
                 if intersect_triangle_triangle(t1, &t2)
-                    && !on_pair(bvh1.triangle_index(a.leaf_position()), bvh2.triangle_index(b.leaf_position()))
+                    && !on_pair(
+                        bvh1.triangle_index(a.leaf_position()),
+                        bvh2.triangle_index(b.leaf_position()),
+                    )
                 {
                     return;
                 }

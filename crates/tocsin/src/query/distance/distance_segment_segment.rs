@@ -29,7 +29,11 @@ pub fn closest_points_segment_segment(p0: Vec3, p1: Vec3, q0: Vec3, q1: Vec3) ->
         } else {
             let b = d1.dot(d2);
             let denom = a * e - b * b;
-            let s0 = if denom > 1e-14 * a * e { ((b * f - c * e) / denom).clamp(0.0, 1.0) } else { 0.0 };
+            let s0 = if denom > 1e-14 * a * e {
+                ((b * f - c * e) / denom).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
             let t0 = (b * s0 + f) / e;
             if t0 < 0.0 {
                 t = 0.0;

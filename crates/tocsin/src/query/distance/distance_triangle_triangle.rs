@@ -24,7 +24,11 @@ pub struct TrianglePairDistance {
 
 /// Exact distance between triangles `a` and `b` (both in the same frame).
 pub fn distance_triangle_triangle(a: &[Vec3; 3], b: &[Vec3; 3]) -> TrianglePairDistance {
-    let mut best = TrianglePairDistance { distance: f64::INFINITY, point1: a[0], point2: b[0] };
+    let mut best = TrianglePairDistance {
+        distance: f64::INFINITY,
+        point1: a[0],
+        point2: b[0],
+    };
     let mut best_sq = f64::INFINITY;
     let mut consider = |x: Vec3, y: Vec3, best: &mut TrianglePairDistance| {
         let d = (x - y).length_squared();
@@ -59,7 +63,11 @@ pub fn distance_triangle_triangle(a: &[Vec3; 3], b: &[Vec3; 3]) -> TrianglePairD
     }
     if best_sq > 0.0 {
         if let Some(x) = edge_crossing(a, b, nb).or_else(|| edge_crossing(b, a, na)) {
-            return TrianglePairDistance { distance: 0.0, point1: x, point2: x };
+            return TrianglePairDistance {
+                distance: 0.0,
+                point1: x,
+                point2: x,
+            };
         }
     }
     best.distance = best_sq.sqrt();

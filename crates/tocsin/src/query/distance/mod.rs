@@ -34,7 +34,10 @@ pub struct DistanceOptions {
 
 impl Default for DistanceOptions {
     fn default() -> Self {
-        Self { relative_error: 0.0, absolute_error: 0.0 }
+        Self {
+            relative_error: 0.0,
+            absolute_error: 0.0,
+        }
     }
 }
 
@@ -86,7 +89,14 @@ pub fn distance(
     pose2: &Pose,
     options: &DistanceOptions,
 ) -> Result<DistanceResult, OptionsError> {
-    distance_with_cache(mesh1, pose1, mesh2, pose2, options, &mut DistanceCache::default())
+    distance_with_cache(
+        mesh1,
+        pose1,
+        mesh2,
+        pose2,
+        options,
+        &mut DistanceCache::default(),
+    )
 }
 
 /// [`distance`] warm-started from, and updating, `cache`.
@@ -119,7 +129,8 @@ pub fn within_distance(
     check_non_negative("threshold", threshold)?;
     let pos12 = pose1.inv_mul(pose2);
     let options = DistanceOptions::default();
-    let mut search = DistanceSearch::new(mesh1, mesh2, &pos12, &options, Stop::AtOrBelow(threshold));
+    let mut search =
+        DistanceSearch::new(mesh1, mesh2, &pos12, &options, Stop::AtOrBelow(threshold));
     search.run(None);
     Ok(search.best().distance <= threshold)
 }

@@ -6,7 +6,7 @@
 
 use super::distance_triangle_triangle::distance_triangle_triangle;
 use super::{DistanceOptions, DistanceResult};
-use crate::bvh::{rss_separation, Bvh, RelativeRss};
+use crate::bvh::{rss_separation, ASide, BSide, Bvh, RelativeRss};
 use crate::math::{Mat3, Pose, Vec3};
 use crate::mesh::TriMesh;
 
@@ -51,7 +51,9 @@ impl<'a> DistanceSearch<'a> {
         options: &DistanceOptions,
         stop: Stop,
     ) -> Self {
-        let scale = pos12.translation.length() + mesh1.bounding_radius() + mesh2.bounding_radius()
+        let scale = pos12.translation.length()
+            + mesh1.bounding_radius()
+            + mesh2.bounding_radius()
             + mesh1.bvh().root().center.length()
             + mesh2.bvh().root().center.length();
         Self {
@@ -89,21 +91,26 @@ impl<'a> DistanceSearch<'a> {
         }
     }
 
-    /// Bound below which a pair is still worth visiting.
+    /// Bound below which a pair is still worth visiting (`NEG_INFINITY` once the search is done).
     #[inline]
     fn cutoff(&self) -> f64 {
+        let improve = (self.best.distance - self.abs) / (1.0 + self.rel);
         match self.stop {
+            // A pair whose bound exceeds the threshold cannot answer "within".
             Stop::AtOrBelow(t) if self.best.distance <= t => f64::NEG_INFINITY,
-            _ => (self.best.distance - self.abs) / (1.0 + self.rel),
+            Stop::AtOrBelow(t) => improve.min(t.next_up()),
+            // Nothing is below 0: a contact ends the search.
+            Stop::Never if improve <= 0.0 => f64::NEG_INFINITY,
+            Stop::Never => improve,
         }
     }
 
+    /// Lower bound for the pair `(n1, n2)` whose relative frame is `rel`.
     #[inline]
-    fn bound(&self, n1: u32, n2: u32, cutoff: f64) -> f64 {
+    fn bound(&self, n1: u32, n2: u32, rel: &RelativeRss, cutoff: f64) -> f64 {
         let a = &self.bvh1.nodes()[n1 as usize].rss;
         let b = &self.bvh2.nodes()[n2 as usize].rss;
-        let rel = RelativeRss::new(a, b, &self.rot12, self.trans12);
-        rss_separation(a, b, &rel, cutoff + self.slack).0 - self.slack
+        rss_separation(a, b, rel, cutoff + self.slack).0 - self.slack
     }
 
     fn leaf_pair(&mut self, leaf1: u32, leaf2: u32) {
@@ -111,7 +118,13 @@ impl<'a> DistanceSearch<'a> {
         let t2 = self.bvh2.leaf_triangles()[leaf2 as usize].map(|p| self.rot12 * p + self.trans12);
         let d = distance_triangle_triangle(t1, &t2);
         if d.distance < self.best.distance {
-            self.best = Best { distance: d.distance, point1: d.point1, point2: d.point2, leaf1, leaf2 };
+            self.best = Best {
+                distance: d.distance,
+                point1: d.point1,
+                point2: d.point2,
+                leaf1,
+                leaf2,
+            };
         }
     }
 
@@ -125,7 +138,13 @@ impl<'a> DistanceSearch<'a> {
             }
         }
         self.stack.clear();
-        let lb = self.bound(0, 0, f64::INFINITY);
+        let (root1, root2) = (&self.bvh1.nodes()[0].rss, &self.bvh2.nodes()[0].rss);
+        let lb = self.bound(
+            0,
+            0,
+            &RelativeRss::new(root1, root2, &self.rot12, self.trans12),
+            f64::INFINITY,
+        );
         self.stack.push((0, 0, lb));
         let (nodes1, nodes2) = (self.bvh1.nodes(), self.bvh2.nodes());
         while let Some((n1, n2, lb)) = self.stack.pop() {
@@ -140,17 +159,29 @@ impl<'a> DistanceSearch<'a> {
             }
             // Split the larger volume (or the one that is not a leaf).
             let split_first = !a.is_leaf() && (b.is_leaf() || a.rss.size() >= b.rss.size());
-            let (p, q) = if split_first {
+            // The side that stays is transformed once for both children.
+            let (p, q, lp, lq);
+            if split_first {
                 let (c1, c2) = a.children(n1);
-                ((c1, n2), (c2, n2))
+                let side = BSide::new(&b.rss, &self.rot12, self.trans12);
+                let rel = |c: u32| RelativeRss::from_b_side(&nodes1[c as usize].rss, &side);
+                (p, q) = ((c1, n2), (c2, n2));
+                lp = self.bound(c1, n2, &rel(c1), cutoff);
+                lq = self.bound(c2, n2, &rel(c2), cutoff);
             } else {
                 let (c1, c2) = b.children(n2);
-                ((n1, c1), (n1, c2))
-            };
-            let lp = self.bound(p.0, p.1, cutoff);
-            let lq = self.bound(q.0, q.1, cutoff);
+                let side = ASide::new(&a.rss, &self.rot12, self.trans12);
+                let rel = |c: u32| RelativeRss::from_a_side(&side, &nodes2[c as usize].rss);
+                (p, q) = ((n1, c1), (n1, c2));
+                lp = self.bound(n1, c1, &rel(c1), cutoff);
+                lq = self.bound(n1, c2, &rel(c2), cutoff);
+            }
             // Push the farther first so that the nearer is visited first.
-            let (near, far) = if lp <= lq { ((p, lp), (q, lq)) } else { ((q, lq), (p, lp)) };
+            let (near, far) = if lp <= lq {
+                ((p, lp), (q, lq))
+            } else {
+                ((q, lq), (p, lp))
+            };
             if far.1 < cutoff {
                 self.stack.push((far.0 .0, far.0 .1, far.1));
             }

@@ -1,0 +1,36 @@
+"""tocsin: exact distance, collision and continuous collision detection between polygon soups.
+
+Units are the models' own; every point and normal is in the world frame; poses are 4x4
+homogeneous rigid transforms (numpy arrays or anything array-like), mapping body coordinates
+to world coordinates (the convention of trimesh and robotics).
+
+>>> import numpy as np, tocsin
+>>> a = tocsin.Mesh.box([0.5, 0.5, 0.5])
+>>> pose = np.eye(4); pose[0, 3] = 2.0
+>>> round(tocsin.distance(a, np.eye(4), a, pose).distance, 12)
+1.0
+"""
+
+from ._core import (
+    DistanceResult,
+    Mesh,
+    collide,
+    collide_pairs,
+    distance,
+    within_distance,
+)
+from ._errors import MeshError, MeshFileError, OptionsError, PoseError, TocsinError
+
+__all__ = [
+    "DistanceResult",
+    "Mesh",
+    "MeshError",
+    "MeshFileError",
+    "OptionsError",
+    "PoseError",
+    "TocsinError",
+    "collide",
+    "collide_pairs",
+    "distance",
+    "within_distance",
+]
