@@ -61,7 +61,11 @@ fn as_array<'py, T: numpy::Element>(
 
 fn pose_from(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Pose> {
     let py = obj.py();
-    let arr = as_array::<f64>(obj, "float64", 4, name, "PoseError")?;
+    // Fast path: already a float64 array (the common case); anything else goes through numpy.
+    let arr = match obj.cast::<PyArray2<f64>>() {
+        Ok(a) if a.shape() == [4, 4] => a.readonly(),
+        _ => as_array::<f64>(obj, "float64", 4, name, "PoseError")?,
+    };
     if arr.shape()[0] != 4 {
         return Err(error(
             py,
@@ -69,10 +73,12 @@ fn pose_from(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Pose> {
             format!("{name} must have shape (4, 4), got {:?}", arr.shape()),
         ));
     }
-    let v = arr
-        .as_slice()
-        .map_err(|e| error(py, "PoseError", e.to_string()))?;
-    let m = Mat4::from_cols_slice(v).transpose(); // numpy is row-major
+    let a = arr.as_array();
+    let mut rows = [0.0; 16];
+    for (k, v) in rows.iter_mut().enumerate() {
+        *v = a[[k / 4, k % 4]];
+    }
+    let m = Mat4::from_cols_slice(&rows).transpose(); // rows were read row-major
     Pose::from_matrix(&m, ROTATION_TOLERANCE)
         .map_err(|e| error(py, "PoseError", format!("{name}: {e}")))
 }

@@ -183,3 +183,14 @@ def test_queries_release_the_gil():
     stop.set()
     th.join()
     assert len(ticks) > 50, "the other thread should run while queries do"
+
+
+def test_non_contiguous_and_list_poses_match():
+    box = tocsin.Mesh.box([0.5, 0.5, 0.5])
+    p = pose((1, 2, 3), 0.7, (3, 0, 0))
+    strided = np.asfortranarray(p)
+    as_list = p.tolist()
+    d = tocsin.distance(box, np.eye(4), box, p).distance
+    assert tocsin.distance(box, np.eye(4), box, strided).distance == d
+    assert tocsin.distance(box, np.eye(4), box, as_list).distance == d
+    assert tocsin.distance(box, np.eye(4), box, p[:, :].T.T).distance == d

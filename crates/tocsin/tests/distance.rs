@@ -79,6 +79,16 @@ fn triangle_kernel_matches_independent_formulation() {
     }
 }
 
+/// Regression: coplanar triangles whose edges cross gave witnesses 5.5e-17 apart, and the
+/// edge-pair separation certificate accepted that rounding gap instead of reporting contact.
+#[test]
+fn coplanar_crossing_edges_are_in_contact() {
+    let a = [Vec3::ZERO, Vec3::X, Vec3::Y];
+    let b = a.map(|p| p + Vec3::new(0.2, 0.2, 0.0));
+    assert_eq!(distance_triangle_triangle(&a, &b).distance, 0.0);
+    assert_eq!(distance_triangle_triangle(&b, &a).distance, 0.0);
+}
+
 #[test]
 fn triangle_kernel_is_a_lower_bound_of_sampled_pairs() {
     let mut rng = rng(2);

@@ -42,6 +42,23 @@ pub fn distance_triangle_triangle(a: &[Vec3; 3], b: &[Vec3; 3]) -> TrianglePairD
         let (p0, p1) = (a[i], a[(i + 1) % 3]);
         for j in 0..3 {
             let (x, y) = closest_points_segment_segment(p0, p1, b[j], b[(j + 1) % 3]);
+            // Certificate: x and y are closest on their edges, so v = y - x separates the
+            // triangles when the third vertex of each lies behind its witness along v; then no
+            // pair of points is closer than |v| and (x, y) is the answer. Trusted only when |v|
+            // is well above rounding at these coordinates (else the pair may intersect).
+            let v = y - x;
+            let vv = v.length_squared();
+            let noise = 1e-12 * (x.abs().max_element() + y.abs().max_element());
+            if vv > noise * noise
+                && (a[(i + 2) % 3] - x).dot(v) <= 0.0
+                && (b[(j + 2) % 3] - y).dot(v) >= 0.0
+            {
+                return TrianglePairDistance {
+                    distance: vv.sqrt(),
+                    point1: x,
+                    point2: y,
+                };
+            }
             consider(x, y, &mut best);
         }
     }
