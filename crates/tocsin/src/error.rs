@@ -116,3 +116,21 @@ pub enum OptionsError {
         value: f64,
     },
 }
+
+/// A motion is invalid.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum MotionError {
+    /// A start or end pose is not a rigid transform.
+    #[error("invalid pose: {0}")]
+    Pose(PoseError),
+    /// A coordinate of a pose or of the centre is NaN or infinite.
+    #[error("the motion has a NaN or infinite coordinate")]
+    NonFinite,
+    /// A translation was asked for but the rotation changes.
+    #[error("a translation needs the same rotation at start and end (entries differ by up to {difference:.3e}, tolerance 1e-9)")]
+    RotationChanges {
+        /// Largest entry-wise difference of the two rotations.
+        difference: f64,
+    },
+}

@@ -16,12 +16,18 @@ pub mod bvh;
 pub mod error;
 pub mod math;
 pub mod mesh;
+pub mod motion;
 pub mod query;
 
-pub use error::{MeshError, OptionsError, PoseError};
+pub use error::{MeshError, MotionError, OptionsError, PoseError};
 pub use math::{Mat3, Mat4, Pose, Vec3};
 pub use mesh::TriMesh;
+pub use motion::{Motion, MotionKind};
 pub use query::collide::{collide, collide_pairs};
+pub use query::contact_time::{
+    time_of_contact, time_of_contact_with_cache, ContactCache, ContactOptions, ContactStatus,
+    ContactTime,
+};
 pub use query::distance::{
     distance, distance_with_cache, within_distance, DistanceCache, DistanceOptions, DistanceResult,
 };

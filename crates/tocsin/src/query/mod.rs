@@ -2,4 +2,5 @@
 //! work in the first mesh's frame with `pos12` (mesh 2's frame seen from mesh 1's).
 
 pub mod collide;
+pub mod contact_time;
 pub mod distance;

@@ -109,12 +109,24 @@ pub fn distance_with_cache(
     cache: &mut DistanceCache,
 ) -> Result<DistanceResult, OptionsError> {
     options.validate()?;
+    Ok(search_distance(mesh1, pose1, mesh2, pose2, options, cache))
+}
+
+/// The search behind [`distance_with_cache`], for options already validated.
+pub(crate) fn search_distance(
+    mesh1: &TriMesh,
+    pose1: &Pose,
+    mesh2: &TriMesh,
+    pose2: &Pose,
+    options: &DistanceOptions,
+    cache: &mut DistanceCache,
+) -> DistanceResult {
     let pos12 = pose1.inv_mul(pose2);
     let mut search = DistanceSearch::new(mesh1, mesh2, &pos12, options, Stop::Never);
     search.run(cache.pair);
     let best = search.best();
     cache.pair = Some((best.leaf1, best.leaf2));
-    Ok(search.result(pose1))
+    search.result(pose1)
 }
 
 /// Whether the distance between the meshes is at most `threshold` (model units). Stops as

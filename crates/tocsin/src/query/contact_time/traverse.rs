@@ -1,0 +1,214 @@
+//! One C2A iteration: the largest step `dt` certified safe by the two hierarchies at time `t`.
+//!
+//! Invariant: every node pair left unvisited has a certified step `s` with
+//! `s (1 + slack) >= best`, and the step returned is `best / (1 + slack)`, so it is safe for
+//! every triangle pair. A triangle pair within `delta` ends the search.
+
+use crate::bvh::{rss_separation, ASide, BSide, Bvh, Node, RelativeRss};
+use crate::math::{Mat3, Pose, Vec3};
+use crate::motion::Motion;
+use crate::query::distance::distance_triangle_triangle;
+use crate::TriMesh;
+
+/// What one iteration found.
+pub(crate) enum StepOutcome {
+    /// A triangle pair (leaf positions) is within the tolerance at the current time.
+    Within { pair: (u32, u32) },
+    /// A safe step, the triangle pair that limited it (if any) and the smallest triangle-pair
+    /// distance seen (an upper bound of the meshes' distance; infinite if none was evaluated).
+    Step {
+        dt: f64,
+        pair: Option<(u32, u32)>,
+        distance: f64,
+    },
+}
+
+pub(crate) struct StepSearch<'a> {
+    bvh1: &'a Bvh,
+    bvh2: &'a Bvh,
+    motion1: &'a Motion,
+    motion2: &'a Motion,
+    delta: f64,
+    /// Per node: distance bound of its points from the motion's rotation axis.
+    axis1: Vec<f64>,
+    axis2: Vec<f64>,
+    // Per-iteration state.
+    rot12: Mat3,
+    trans12: Vec3,
+    /// Mesh 1's rotation at the current time: mesh-1 frame to world.
+    rot1: Mat3,
+    best: f64,
+    best_pair: Option<(u32, u32)>,
+    closest: f64,
+    slack: f64,
+    stack: Vec<(u32, u32, f64)>,
+}
+
+/// Axis-distance bounds of every node: RSS centre's distance from the axis plus its radius.
+fn axis_bounds(bvh: &Bvh, motion: &Motion) -> Vec<f64> {
+    bvh.nodes()
+        .iter()
+        .map(|n| motion.axis_distance(n.rss.center) + n.rss.bounding_radius())
+        .collect()
+}
+
+impl<'a> StepSearch<'a> {
+    pub(crate) fn new(
+        mesh1: &'a TriMesh,
+        motion1: &'a Motion,
+        mesh2: &'a TriMesh,
+        motion2: &'a Motion,
+        delta: f64,
+    ) -> Self {
+        Self {
+            bvh1: mesh1.bvh(),
+            bvh2: mesh2.bvh(),
+            motion1,
+            motion2,
+            delta,
+            axis1: axis_bounds(mesh1.bvh(), motion1),
+            axis2: axis_bounds(mesh2.bvh(), motion2),
+            rot12: Mat3::IDENTITY,
+            trans12: Vec3::ZERO,
+            rot1: Mat3::IDENTITY,
+            best: 0.0,
+            best_pair: None,
+            closest: f64::INFINITY,
+            slack: 0.0,
+            stack: Vec::with_capacity(64),
+        }
+    }
+
+    /// Safe step for a gap `gap` along the mesh-1-frame unit direction `n` (from body 1 to
+    /// body 2) between sets whose axis distances are bounded by `rho1`, `rho2`.
+    #[inline]
+    fn step(&self, gap: f64, n: Vec3, rho1: f64, rho2: f64) -> f64 {
+        let margin = gap - 0.5 * self.delta;
+        if margin <= 0.0 {
+            return 0.0;
+        }
+        let n_world = self.rot1 * n;
+        let mu = self.motion1.directional_bound(n_world, rho1)
+            + self.motion2.directional_bound(-n_world, rho2);
+        if mu <= 0.0 {
+            f64::INFINITY
+        } else {
+            margin / mu
+        }
+    }
+
+    /// Certified step of a node pair whose relative frame is `rel`.
+    #[inline]
+    fn node_step(&self, n1: u32, n2: u32, rel: &RelativeRss) -> f64 {
+        let (a, b) = (
+            &self.bvh1.nodes()[n1 as usize],
+            &self.bvh2.nodes()[n2 as usize],
+        );
+        let (gap, axis) = rss_separation(&a.rss, &b.rss, rel, f64::INFINITY);
+        self.step(
+            gap,
+            a.rss.axes * axis,
+            self.axis1[n1 as usize],
+            self.axis2[n2 as usize],
+        )
+    }
+
+    /// Evaluates a triangle pair: `true` when it is within the tolerance.
+    fn leaf_pair(&mut self, leaf1: u32, leaf2: u32) -> bool {
+        let t1 = &self.bvh1.leaf_triangles()[leaf1 as usize];
+        let body2 = self.bvh2.leaf_triangles()[leaf2 as usize];
+        let t2 = body2.map(|p| self.rot12 * p + self.trans12);
+        let d = distance_triangle_triangle(t1, &t2);
+        self.closest = self.closest.min(d.distance);
+        if d.distance <= self.delta {
+            return true;
+        }
+        let rho1 = t1
+            .iter()
+            .fold(0.0_f64, |m, &p| m.max(self.motion1.axis_distance(p)));
+        let rho2 = body2
+            .iter()
+            .fold(0.0_f64, |m, &p| m.max(self.motion2.axis_distance(p)));
+        let n = (d.point2 - d.point1) / d.distance;
+        let s = self.step(d.distance, n, rho1, rho2);
+        if s < self.best {
+            self.best = s;
+            self.best_pair = Some((leaf1, leaf2));
+        }
+        false
+    }
+
+    /// One iteration at time `t`; `slack` trades step length for fewer visited pairs.
+    pub(crate) fn run(&mut self, t: f64, slack: f64, warm: Option<(u32, u32)>) -> StepOutcome {
+        let (pose1, pose2): (Pose, Pose) = (self.motion1.pose_at(t), self.motion2.pose_at(t));
+        let pos12 = pose1.inv_mul(&pose2);
+        (self.rot12, self.trans12, self.rot1) = (pos12.rotation, pos12.translation, pose1.rotation);
+        self.slack = slack;
+        self.best = (1.0 - t) * (1.0 + slack);
+        self.best_pair = None;
+        self.closest = f64::INFINITY;
+        if let Some((l1, l2)) = warm {
+            if (l1 as usize) < self.bvh1.leaf_triangles().len()
+                && (l2 as usize) < self.bvh2.leaf_triangles().len()
+                && self.leaf_pair(l1, l2)
+            {
+                return StepOutcome::Within { pair: (l1, l2) };
+            }
+        }
+        let (nodes1, nodes2) = (self.bvh1.nodes(), self.bvh2.nodes());
+        let root = RelativeRss::new(&nodes1[0].rss, &nodes2[0].rss, &self.rot12, self.trans12);
+        self.stack.clear();
+        self.stack.push((0, 0, self.node_step(0, 0, &root)));
+        while let Some((n1, n2, s)) = self.stack.pop() {
+            if s * (1.0 + self.slack) >= self.best {
+                continue;
+            }
+            let (a, b): (&Node, &Node) = (&nodes1[n1 as usize], &nodes2[n2 as usize]);
+            if a.is_leaf() && b.is_leaf() {
+                if self.leaf_pair(a.leaf_position(), b.leaf_position()) {
+                    return StepOutcome::Within {
+                        pair: (a.leaf_position(), b.leaf_position()),
+                    };
+                }
+                continue;
+            }
+            let split_first = !a.is_leaf() && (b.is_leaf() || a.rss.size() >= b.rss.size());
+            let children = if split_first {
+                let (c1, c2) = a.children(n1);
+                let side = BSide::new(&b.rss, &self.rot12, self.trans12);
+                let step = |c: u32| {
+                    self.node_step(
+                        c,
+                        n2,
+                        &RelativeRss::from_b_side(&nodes1[c as usize].rss, &side),
+                    )
+                };
+                [(c1, n2, step(c1)), (c2, n2, step(c2))]
+            } else {
+                let (c1, c2) = b.children(n2);
+                let side = ASide::new(&a.rss, &self.rot12, self.trans12);
+                let step = |c: u32| {
+                    self.node_step(
+                        n1,
+                        c,
+                        &RelativeRss::from_a_side(&side, &nodes2[c as usize].rss),
+                    )
+                };
+                [(n1, c1, step(c1)), (n1, c2, step(c2))]
+            };
+            // Smaller step (more urgent) is visited first: push it last.
+            let [p, q] = children;
+            let (first, second) = if p.2 <= q.2 { (p, q) } else { (q, p) };
+            for c in [second, first] {
+                if c.2 * (1.0 + self.slack) < self.best {
+                    self.stack.push(c);
+                }
+            }
+        }
+        StepOutcome::Step {
+            dt: self.best / (1.0 + self.slack),
+            pair: self.best_pair,
+            distance: self.closest,
+        }
+    }
+}

@@ -1,0 +1,412 @@
+//! `time_of_contact` against an oracle independent of conservative advancement: exact
+//! collision sampled at 1,200 times and refined by bisection, and the brute-force distance at
+//! the reported time. Zero misses and zero late answers allowed.
+
+#![allow(clippy::unwrap_used, clippy::panic)]
+
+mod common;
+use common::*;
+use rand::Rng;
+use tocsin::{
+    collide, distance, mesh, time_of_contact, ContactOptions, ContactStatus, DistanceOptions,
+    Motion, Pose, TriMesh, Vec3,
+};
+
+const SAMPLES: usize = 1200;
+
+struct Oracle {
+    /// (last free time, first colliding time) around the first sampled collision.
+    first_collision: Option<(f64, f64)>,
+    /// Smallest sampled distance.
+    closest: f64,
+}
+
+fn oracle(m1: &TriMesh, mo1: &Motion, m2: &TriMesh, mo2: &Motion) -> Oracle {
+    let hit = |t: f64| collide(m1, &mo1.pose_at(t), m2, &mo2.pose_at(t));
+    let dist = |t: f64| {
+        distance(
+            m1,
+            &mo1.pose_at(t),
+            m2,
+            &mo2.pose_at(t),
+            &DistanceOptions::default(),
+        )
+        .unwrap()
+        .distance
+    };
+    let mut closest = f64::INFINITY;
+    let mut prev = 0.0;
+    for i in 0..=SAMPLES {
+        let t = i as f64 / SAMPLES as f64;
+        closest = closest.min(dist(t));
+        if hit(t) {
+            if i == 0 {
+                return Oracle {
+                    first_collision: Some((0.0, 0.0)),
+                    closest: 0.0,
+                };
+            }
+            let (mut lo, mut hi) = (prev, t);
+            for _ in 0..50 {
+                let mid = 0.5 * (lo + hi);
+                if hit(mid) {
+                    hi = mid
+                } else {
+                    lo = mid
+                }
+            }
+            return Oracle {
+                first_collision: Some((lo, hi)),
+                closest,
+            };
+        }
+        prev = t;
+    }
+    Oracle {
+        first_collision: None,
+        closest,
+    }
+}
+
+/// Checks the semantics; returns whether a contact was reported.
+fn check(
+    m1: &TriMesh,
+    mo1: &Motion,
+    m2: &TriMesh,
+    mo2: &Motion,
+    tol: Option<f64>,
+    label: &str,
+) -> bool {
+    let opts = ContactOptions {
+        tolerance: tol,
+        ..Default::default()
+    };
+    let delta = tocsin::query::contact_time::effective_tolerance(m1, m2, &opts);
+    let r = time_of_contact(m1, mo1, m2, mo2, &opts).unwrap();
+    let o = oracle(m1, mo1, m2, mo2);
+    match (&r, o.first_collision) {
+        (None, Some((_, hi))) => panic!("{label}: missed a collision at t = {hi}"),
+        (None, None) => assert!(
+            o.closest > delta,
+            "{label}: no contact reported but the sampled distance reaches {} <= delta {delta}",
+            o.closest
+        ),
+        (Some(c), first) => {
+            assert_ne!(
+                c.status,
+                ContactStatus::IterationLimit,
+                "{label}: iteration cap"
+            );
+            let (p1, p2) = (mo1.pose_at(c.time), mo2.pose_at(c.time));
+            let (bd, _, _) = brute_distance(m1, &p1, m2, &p2);
+            assert!(
+                bd <= delta * (1.0 + 1e-9),
+                "{label}: distance {bd} at t = {} exceeds delta {delta}",
+                c.time
+            );
+            assert_rel(c.distance, bd, 1e-9, 1e-12 * delta, "reported distance");
+            if let Some((_, hi)) = first {
+                assert!(
+                    c.time <= hi,
+                    "{label}: late: t = {} after the first collision at {hi}",
+                    c.time
+                );
+            }
+            if c.status == ContactStatus::StartedInContact {
+                assert_eq!(c.time, 0.0);
+                assert!(collide(m1, &p1, m2, &p2));
+            } else {
+                assert!(
+                    !collide(m1, &p1, m2, &p2),
+                    "{label}: reported time is in collision"
+                );
+                assert!((c.normal.length() - 1.0).abs() < 1e-9);
+                assert!(
+                    c.normal.dot(c.point2 - c.point1) >= 0.0,
+                    "{label}: normal from body 1 to body 2"
+                );
+            }
+            assert!((0.0..=1.0).contains(&c.time));
+        }
+    }
+    r.is_some()
+}
+
+fn random_motion(rng: &mut impl Rng, kind: usize, start: Pose, end: Pose) -> Motion {
+    match kind {
+        0 => Motion::translation(
+            start,
+            Pose {
+                rotation: start.rotation,
+                translation: end.translation,
+            },
+        )
+        .unwrap(),
+        1 => {
+            let c = Vec3::new(
+                rng.random_range(-0.5..0.5),
+                rng.random_range(-0.5..0.5),
+                rng.random_range(-0.5..0.5),
+            );
+            Motion::interp(start, end, c).unwrap()
+        }
+        _ => Motion::screw(start, end).unwrap(),
+    }
+}
+
+#[test]
+fn random_soups_and_motions_against_sampling() {
+    let mut rng = rng(50);
+    let (mut hits, mut total) = (0, 0);
+    for case in 0..90 {
+        let scale = [1.0, 1e-3, 1e3][case % 3];
+        let m1 = random_soup(&mut rng, 3 + case % 12, scale);
+        let m2 = random_soup(&mut rng, 3 + (case * 5) % 13, scale);
+        let kind = case % 3;
+        let both_move = case % 2 == 0;
+        // Body 1 flies from one side to the other, turning; body 2 sits near the middle or moves too.
+        let dir = random_unit(&mut rng);
+        let s1 = Pose {
+            rotation: random_rotation(&mut rng),
+            translation: -4.0 * scale * dir,
+        };
+        let e1 = Pose {
+            rotation: random_rotation(&mut rng),
+            translation: 4.0 * scale * dir
+                + random_unit(&mut rng) * scale * rng.random_range(0.0..2.0),
+        };
+        let mo1 = random_motion(&mut rng, kind, s1, e1);
+        let s2 = random_pose(&mut rng, 0.5 * scale);
+        let mo2 = if both_move {
+            let e2 = Pose {
+                rotation: random_rotation(&mut rng),
+                translation: s2.translation - dir * scale,
+            };
+            random_motion(&mut rng, kind, s2, e2)
+        } else {
+            Motion::stationary(s2)
+        };
+        let tol = [None, Some(1e-2 * scale)][case % 2];
+        hits += usize::from(check(
+            &m1,
+            &mo1,
+            &m2,
+            &mo2,
+            tol,
+            &format!("case {case} kind {kind} scale {scale}"),
+        ));
+        total += 1;
+    }
+    assert!(
+        hits > 20 && hits < total,
+        "the sample should mix contacts and misses: {hits}/{total}"
+    );
+}
+
+#[test]
+fn knots_every_motion_kind() {
+    let mut rng = rng(51);
+    let knot = mesh::torus_knot(60, 6).unwrap();
+    for case in 0..24 {
+        let kind = case % 3;
+        let dir = random_unit(&mut rng);
+        let s1 = Pose {
+            rotation: random_rotation(&mut rng),
+            translation: -12.0 * dir,
+        };
+        let e1 = Pose {
+            rotation: random_rotation(&mut rng),
+            translation: 12.0 * dir + random_unit(&mut rng) * rng.random_range(0.0..6.0),
+        };
+        let mo1 = random_motion(&mut rng, kind, s1, e1);
+        check(
+            &knot,
+            &mo1,
+            &knot,
+            &Motion::stationary(Pose::IDENTITY),
+            None,
+            &format!("knot case {case} kind {kind}"),
+        );
+    }
+}
+
+#[test]
+fn thin_plates_at_high_speed() {
+    // Two zero-thickness plates; one crosses the other in a single step: 100 samples miss it.
+    let plate = mesh::plate(1.0, 2).unwrap();
+    let fixed = Motion::stationary(Pose::IDENTITY);
+    // Parallel plates; samples at t = k / 100 put the moving one at z = k - 50.3, never 0.
+    let below = Pose::from_translation(Vec3::new(0.1, 0.0, -50.3));
+    let above = Pose::from_translation(Vec3::new(0.1, 0.0, 49.7));
+    let turned = Pose::from_axis_angle(Vec3::Z, 0.5, above.translation); // stays parallel
+    for mo in [
+        Motion::translation(below, above).unwrap(),
+        Motion::interp(below, turned, Vec3::ZERO).unwrap(),
+        Motion::screw(below, turned).unwrap(),
+    ] {
+        assert!(check(&plate, &mo, &plate, &fixed, Some(1e-4), "thin plate"));
+        let sampled = (0..=100).any(|k| {
+            collide(
+                &plate,
+                &mo.pose_at(k as f64 / 100.0),
+                &plate,
+                &Pose::IDENTITY,
+            )
+        });
+        assert!(!sampled, "100 samples should tunnel through the plate");
+    }
+}
+
+#[test]
+fn hand_cases() {
+    let cube = mesh::box_mesh(Vec3::splat(0.5)).unwrap();
+    let at = |x: f64| Pose::from_translation(Vec3::new(x, 0.0, 0.0));
+    let still = Motion::stationary(Pose::IDENTITY);
+    let opts = ContactOptions {
+        tolerance: Some(1e-6),
+        ..Default::default()
+    };
+    // Head-on translation: contact at x = 1, reached at t = 0.5 exactly (from below).
+    let mo = Motion::translation(at(3.0), at(-1.0)).unwrap();
+    let r = time_of_contact(&cube, &mo, &cube, &still, &opts)
+        .unwrap()
+        .unwrap();
+    assert!(r.time <= 0.5 && r.time > 0.5 - 1e-6, "t = {}", r.time);
+    assert!(
+        r.normal.x < -0.99,
+        "normal from the moving cube (body 1) towards body 2: {}",
+        r.normal
+    );
+    check(&cube, &mo, &cube, &still, Some(1e-6), "head-on");
+    // Both moving towards each other: contact at t = 0.25.
+    let m1 = Motion::translation(at(-2.0), at(2.0)).unwrap();
+    let m2 = Motion::translation(at(2.0), at(-2.0)).unwrap();
+    let r = time_of_contact(&cube, &m1, &cube, &m2, &opts)
+        .unwrap()
+        .unwrap();
+    assert!(r.time <= 0.375 && r.time > 0.375 - 1e-6, "t = {}", r.time);
+    // Start touching, start overlapping.
+    let touch = Motion::translation(at(1.0), at(5.0)).unwrap();
+    assert_eq!(
+        time_of_contact(&cube, &touch, &cube, &still, &opts)
+            .unwrap()
+            .unwrap()
+            .status,
+        ContactStatus::StartedInContact
+    );
+    let overlap = Motion::translation(at(0.3), at(5.0)).unwrap();
+    let r = time_of_contact(&cube, &overlap, &cube, &still, &opts)
+        .unwrap()
+        .unwrap();
+    assert_eq!(
+        (r.status, r.time, r.distance),
+        (ContactStatus::StartedInContact, 0.0, 0.0)
+    );
+    // Zero motion, apart: no contact; zero motion within tolerance: contact at 0.
+    assert!(
+        time_of_contact(&cube, &Motion::stationary(at(2.0)), &cube, &still, &opts)
+            .unwrap()
+            .is_none()
+    );
+    // Grazing near miss: passes 0.01 above, tolerance 1e-3 -> none; tolerance 0.1 -> contact.
+    let graze = Motion::translation(
+        Pose::from_translation(Vec3::new(-3.0, 0.0, 1.01)),
+        Pose::from_translation(Vec3::new(3.0, 0.0, 1.01)),
+    )
+    .unwrap();
+    assert!(time_of_contact(
+        &cube,
+        &graze,
+        &cube,
+        &still,
+        &ContactOptions {
+            tolerance: Some(1e-3),
+            ..Default::default()
+        }
+    )
+    .unwrap()
+    .is_none());
+    assert!(check(
+        &cube,
+        &graze,
+        &cube,
+        &still,
+        Some(0.1),
+        "grazing within tolerance"
+    ));
+    // Pure rotation in place: a long bar spinning about its centre hits a box beside it.
+    let bar = mesh::box_mesh(Vec3::new(2.0, 0.1, 0.1)).unwrap();
+    let spin = Motion::interp(
+        Pose::IDENTITY,
+        Pose::from_axis_angle(Vec3::Z, 1.5, Vec3::ZERO),
+        Vec3::ZERO,
+    )
+    .unwrap();
+    let post = Motion::stationary(Pose::from_translation(Vec3::new(0.0, 1.5, 0.0)));
+    assert!(check(
+        &bar,
+        &spin,
+        &cube,
+        &post,
+        Some(1e-5),
+        "spin in place"
+    ));
+    // Rotation of exactly pi about z, the bar sweeps through the post.
+    let half_turn = Motion::screw(
+        Pose::IDENTITY,
+        Pose::from_axis_angle(Vec3::Z, std::f64::consts::PI, Vec3::ZERO),
+    )
+    .unwrap();
+    assert!(check(
+        &bar,
+        &half_turn,
+        &cube,
+        &post,
+        Some(1e-5),
+        "rotation of pi"
+    ));
+    // Scales 1e-3 and 1e3.
+    for s in [1e-3, 1e3] {
+        let small = mesh::box_mesh(Vec3::splat(0.5 * s)).unwrap();
+        let mo = Motion::interp(
+            Pose::from_translation(Vec3::new(3.0 * s, 0.1 * s, 0.0)),
+            Pose::from_axis_angle(Vec3::Y, 1.0, Vec3::new(-3.0 * s, 0.0, 0.0)),
+            Vec3::ZERO,
+        )
+        .unwrap();
+        assert!(check(
+            &small,
+            &mo,
+            &small,
+            &still,
+            None,
+            &format!("scale {s}")
+        ));
+    }
+}
+
+#[test]
+fn bad_options_are_errors() {
+    let cube = mesh::box_mesh(Vec3::splat(0.5)).unwrap();
+    let still = Motion::stationary(Pose::IDENTITY);
+    for opts in [
+        ContactOptions {
+            tolerance: Some(0.0),
+            ..Default::default()
+        },
+        ContactOptions {
+            tolerance: Some(-1.0),
+            ..Default::default()
+        },
+        ContactOptions {
+            tolerance: Some(f64::NAN),
+            ..Default::default()
+        },
+        ContactOptions {
+            max_iterations: 0,
+            ..Default::default()
+        },
+    ] {
+        assert!(time_of_contact(&cube, &still, &cube, &still, &opts).is_err());
+    }
+}
