@@ -3,14 +3,16 @@
 //! Meshes are file paths (OBJ, STL, PLY) or built-in models (`builtin:knot2.8k`,
 //! `builtin:knot11k`, `builtin:knot34k`, `builtin:sphere`, `builtin:box`, `builtin:plate`).
 //! Poses are 3 numbers (a translation), 6 (translation then rotation vector in radians) or 16
-//! (a 4x4 matrix, row-major), comma-separated. Errors print one line and exit with status 2.
+//! (a 4x4 matrix, row-major), comma-separated. Motions are `KIND:START:END` with KIND one of
+//! `translation`, `interp`, `screw` and START, END poses (`interp` takes an optional fourth
+//! field, the centre `x,y,z` in the body frame). Errors print one line and exit with status 2.
 
 use clap::{Parser, Subcommand};
 use serde_json::json;
 use std::process::ExitCode;
 use tocsin::{
-    collide, collide_pairs, distance, mesh, within_distance, DistanceOptions, Mat4, Pose, TriMesh,
-    Vec3,
+    collide, collide_pairs, distance, mesh, time_of_contact, within_distance, ContactOptions,
+    ContactStatus, DistanceOptions, Mat4, Motion, Pose, TriMesh, Vec3,
 };
 
 #[derive(Parser)]
@@ -59,6 +61,25 @@ enum Command {
         /// List all intersecting triangle pairs.
         #[arg(long)]
         pairs: bool,
+    },
+    /// First time of contact of two moving meshes over t in [0, 1].
+    ContactTime {
+        /// First mesh: a path or builtin:NAME.
+        mesh1: String,
+        /// Second mesh: a path or builtin:NAME.
+        mesh2: String,
+        /// Motion of mesh 1, KIND:START:END[:CENTER] (default: stays at the identity).
+        #[arg(long, allow_hyphen_values = true)]
+        motion1: Option<String>,
+        /// Motion of mesh 2, same form (default: stays at the identity).
+        #[arg(long, allow_hyphen_values = true)]
+        motion2: Option<String>,
+        /// Distance tolerance (model units; default 1e-3 of the smaller bounding radius).
+        #[arg(long)]
+        tolerance: Option<f64>,
+        /// Iteration cap.
+        #[arg(long, default_value_t = 1000)]
+        max_iterations: usize,
     },
     /// Whether the distance is at most THRESHOLD (model units).
     Within {
@@ -119,6 +140,41 @@ fn parse_pose(text: Option<&str>, which: &str) -> Result<Pose, String> {
     pose.map_err(|e| format!("--{which}: {e}"))
 }
 
+fn parse_motion(text: Option<&str>, which: &str) -> Result<Motion, String> {
+    let Some(text) = text else {
+        return Ok(Motion::stationary(Pose::IDENTITY));
+    };
+    let parts: Vec<&str> = text.split(':').collect();
+    if parts.len() < 3 || parts.len() > 4 {
+        return Err(format!(
+            "--{which}: expected KIND:START:END[:CENTER], got `{text}`"
+        ));
+    }
+    let (start, end) = (
+        parse_pose(Some(parts[1]), which)?,
+        parse_pose(Some(parts[2]), which)?,
+    );
+    let motion = match (parts[0], parts.get(3)) {
+        ("translation", None) => Motion::translation(start, end),
+        ("screw", None) => Motion::screw(start, end),
+        ("interp", centre) => {
+            let c = match centre {
+                None => Vec3::ZERO,
+                Some(c) => {
+                    let v: Vec<f64> = c.split(',').map(|x| x.trim().parse::<f64>()).collect::<Result<_, _>>().map_err(|_| format!("--{which}: bad centre `{c}`"))?;
+                    if v.len() != 3 {
+                        return Err(format!("--{which}: the centre needs 3 numbers"));
+                    }
+                    Vec3::from_slice(&v)
+                }
+            };
+            Motion::interp(start, end, c)
+        }
+        (kind, _) => return Err(format!("--{which}: unknown motion `{kind}` (translation, interp, screw; only interp takes a centre)")),
+    };
+    motion.map_err(|e| format!("--{which}: {e}"))
+}
+
 fn vec(v: Vec3) -> serde_json::Value {
     json!([v.x, v.y, v.z])
 }
@@ -159,6 +215,37 @@ fn run(cli: Cli) -> Result<serde_json::Value, String> {
             } else {
                 Ok(json!({ "collide": collide(&m1, &p1, &m2, &p2) }))
             }
+        }
+        Command::ContactTime {
+            mesh1,
+            mesh2,
+            motion1,
+            motion2,
+            tolerance,
+            max_iterations,
+        } => {
+            let (m1, m2) = (load_mesh(&mesh1)?, load_mesh(&mesh2)?);
+            let (mo1, mo2) = (
+                parse_motion(motion1.as_deref(), "motion1")?,
+                parse_motion(motion2.as_deref(), "motion2")?,
+            );
+            let opts = ContactOptions {
+                tolerance,
+                max_iterations,
+            };
+            let start = std::time::Instant::now();
+            let r = time_of_contact(&m1, &mo1, &m2, &mo2, &opts).map_err(|e| e.to_string())?;
+            let seconds = start.elapsed().as_secs_f64();
+            Ok(match r {
+                None => json!({ "contact": false, "seconds": seconds }),
+                Some(c) => json!({
+                    "contact": true, "time": c.time, "point1": vec(c.point1), "point2": vec(c.point2),
+                    "normal": vec(c.normal), "distance": c.distance, "triangle1": c.triangle1,
+                    "triangle2": c.triangle2, "iterations": c.iterations,
+                    "status": match c.status { ContactStatus::Converged => "converged", ContactStatus::StartedInContact => "started_in_contact", _ => "iteration_limit" },
+                    "seconds": seconds,
+                }),
+            })
         }
         Command::Within { pair, threshold } => {
             let (m1, p1, m2, p2) = setup(&pair)?;

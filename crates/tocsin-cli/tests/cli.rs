@@ -53,6 +53,47 @@ fn collide_and_within() {
 }
 
 #[test]
+fn contact_time_prints_json() {
+    let (code, out, err) = tocsin(&[
+        "contact-time",
+        "builtin:box",
+        "builtin:box",
+        "--motion1",
+        "translation:3,0,0:-1,0,0",
+        "--tolerance",
+        "1e-6",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["contact"], true);
+    let t = v["time"].as_f64().unwrap();
+    assert!(t <= 0.5 && t > 0.5 - 1e-6, "{t}");
+    let (_, out, _) = tocsin(&[
+        "contact-time",
+        "builtin:box",
+        "builtin:box",
+        "--motion1",
+        "screw:-3,0,2:3,0,2,0,0,1",
+    ]);
+    assert_eq!(
+        serde_json::from_str::<serde_json::Value>(&out).unwrap()["contact"],
+        false
+    );
+    let (code, out, _) = tocsin(&[
+        "contact-time",
+        "builtin:box",
+        "builtin:box",
+        "--motion1",
+        "interp:-3,0,0:3,0,0,0,1,0:0.1,0,0",
+    ]);
+    assert_eq!(code, 0);
+    assert_eq!(
+        serde_json::from_str::<serde_json::Value>(&out).unwrap()["status"],
+        "converged"
+    );
+}
+
+#[test]
 fn bad_input_is_one_line_and_status_2() {
     for args in [
         vec!["distance", "/no/such.obj", "builtin:box"],
@@ -67,6 +108,27 @@ fn bad_input_is_one_line_and_status_2() {
         ],
         vec!["distance", "builtin:box", "builtin:box", "--pose1", "a,b,c"],
         vec!["within", "builtin:box", "builtin:box", "--", "-1"],
+        vec![
+            "contact-time",
+            "builtin:box",
+            "builtin:box",
+            "--motion1",
+            "translation:0,0,0:1,0,0,0,0,1",
+        ],
+        vec![
+            "contact-time",
+            "builtin:box",
+            "builtin:box",
+            "--motion1",
+            "wobble:0,0,0:1,0,0",
+        ],
+        vec![
+            "contact-time",
+            "builtin:box",
+            "builtin:box",
+            "--tolerance",
+            "0",
+        ],
     ] {
         let (code, out, err) = tocsin(&args);
         assert_eq!(code, 2, "{args:?}: {err}");

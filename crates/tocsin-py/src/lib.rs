@@ -6,6 +6,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyType;
 use std::sync::Arc;
 use tocsin::{math::ROTATION_TOLERANCE, Mat4, Pose, TriMesh, Vec3};
+use tocsin::{ContactOptions, ContactStatus};
 
 /// Raises `tocsin.<class>` with `message`.
 fn error(py: Python<'_>, class: &str, message: impl Into<String>) -> PyErr {
@@ -330,6 +331,178 @@ fn within_distance(
         .map_err(|e| error(py, "OptionsError", e.to_string()))
 }
 
+fn pose_to_numpy<'py>(py: Python<'py>, p: &Pose) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let m = p.to_matrix().transpose().to_cols_array(); // row-major
+    PyArray1::from_slice(py, &m).reshape([4, 4])
+}
+
+fn motion_error(py: Python<'_>, e: tocsin::MotionError) -> PyErr {
+    error(py, "MotionError", e.to_string())
+}
+
+/// A rigid motion over t in [0, 1] from a start to an end pose (4x4, world frame).
+#[pyclass(frozen, module = "tocsin._core")]
+struct Motion {
+    inner: tocsin::Motion,
+}
+
+#[pymethods]
+impl Motion {
+    /// Pure translation; `end` must have the rotation of `start` (within 1e-9).
+    #[staticmethod]
+    fn translation(start: &Bound<'_, PyAny>, end: &Bound<'_, PyAny>) -> PyResult<Self> {
+        let py = start.py();
+        let (a, b) = (pose_from(start, "start")?, pose_from(end, "end")?);
+        let inner = tocsin::Motion::translation(a, b).map_err(|e| motion_error(py, e))?;
+        Ok(Self { inner })
+    }
+
+    /// The body-frame point `center` (default: the origin) moves on a straight line while the
+    /// body turns about it at constant angular velocity.
+    #[staticmethod]
+    #[pyo3(signature = (start, end, center=None))]
+    fn interp(
+        start: &Bound<'_, PyAny>,
+        end: &Bound<'_, PyAny>,
+        center: Option<[f64; 3]>,
+    ) -> PyResult<Self> {
+        let py = start.py();
+        let (a, b) = (pose_from(start, "start")?, pose_from(end, "end")?);
+        let c = Vec3::from_array(center.unwrap_or([0.0; 3]));
+        let inner = tocsin::Motion::interp(a, b, c).map_err(|e| motion_error(py, e))?;
+        Ok(Self { inner })
+    }
+
+    /// The SE(3) geodesic: rotation about a fixed axis with translation along it.
+    #[staticmethod]
+    fn screw(start: &Bound<'_, PyAny>, end: &Bound<'_, PyAny>) -> PyResult<Self> {
+        let py = start.py();
+        let (a, b) = (pose_from(start, "start")?, pose_from(end, "end")?);
+        let inner = tocsin::Motion::screw(a, b).map_err(|e| motion_error(py, e))?;
+        Ok(Self { inner })
+    }
+
+    /// A body that stays at `pose`.
+    #[staticmethod]
+    fn stationary(pose: &Bound<'_, PyAny>) -> PyResult<Self> {
+        Ok(Self {
+            inner: tocsin::Motion::stationary(pose_from(pose, "pose")?),
+        })
+    }
+
+    /// The pose at time t as a 4x4 array.
+    fn pose_at<'py>(&self, py: Python<'py>, t: f64) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        if !t.is_finite() {
+            return Err(error(
+                py,
+                "OptionsError",
+                format!("t must be finite, got {t}"),
+            ));
+        }
+        pose_to_numpy(py, &self.inner.pose_at(t))
+    }
+
+    /// "translation", "interp" or "screw".
+    #[getter]
+    fn kind(&self) -> &'static str {
+        match self.inner.kind() {
+            tocsin::MotionKind::Translation => "translation",
+            tocsin::MotionKind::Interp => "interp",
+            _ => "screw",
+        }
+    }
+
+    fn __repr__(&self) -> String {
+        format!("Motion.{}(...)", self.kind())
+    }
+}
+
+/// When and where two moving meshes first come within the tolerance.
+#[pyclass(frozen, module = "tocsin._core")]
+struct ContactResult {
+    #[pyo3(get)]
+    time: f64,
+    p1: Vec3,
+    p2: Vec3,
+    n: Vec3,
+    #[pyo3(get)]
+    distance: f64,
+    #[pyo3(get)]
+    triangle1: usize,
+    #[pyo3(get)]
+    triangle2: usize,
+    #[pyo3(get)]
+    iterations: usize,
+    #[pyo3(get)]
+    status: &'static str,
+}
+
+#[pymethods]
+impl ContactResult {
+    /// Closest point on mesh 1 at `time`, world frame, shape (3,).
+    #[getter]
+    fn point1<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        vec3(py, self.p1)
+    }
+
+    /// Closest point on mesh 2 at `time`, world frame, shape (3,).
+    #[getter]
+    fn point2<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        vec3(py, self.p2)
+    }
+
+    /// Unit normal from body 1 to body 2, world frame, shape (3,).
+    #[getter]
+    fn normal<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        vec3(py, self.n)
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "ContactResult(time={}, distance={}, status='{}', iterations={})",
+            self.time, self.distance, self.status, self.iterations
+        )
+    }
+}
+
+/// First time of contact, or None when the meshes stay farther apart than the tolerance.
+#[pyfunction]
+#[pyo3(signature = (mesh1, motion1, mesh2, motion2, tolerance=None, max_iterations=None))]
+fn time_of_contact(
+    py: Python<'_>,
+    mesh1: &Mesh,
+    motion1: &Motion,
+    mesh2: &Mesh,
+    motion2: &Motion,
+    tolerance: Option<f64>,
+    max_iterations: Option<usize>,
+) -> PyResult<Option<ContactResult>> {
+    let (m1, m2) = (mesh1.inner.clone(), mesh2.inner.clone());
+    let (mo1, mo2) = (motion1.inner, motion2.inner);
+    let opts = ContactOptions {
+        tolerance,
+        max_iterations: max_iterations.unwrap_or(ContactOptions::default().max_iterations),
+    };
+    let r = py
+        .detach(|| tocsin::time_of_contact(&m1, &mo1, &m2, &mo2, &opts))
+        .map_err(|e| error(py, "OptionsError", e.to_string()))?;
+    Ok(r.map(|c| ContactResult {
+        time: c.time,
+        p1: c.point1,
+        p2: c.point2,
+        n: c.normal,
+        distance: c.distance,
+        triangle1: c.triangle1,
+        triangle2: c.triangle2,
+        iterations: c.iterations,
+        status: match c.status {
+            ContactStatus::Converged => "converged",
+            ContactStatus::StartedInContact => "started_in_contact",
+            _ => "iteration_limit",
+        },
+    }))
+}
+
 /// The compiled core of the `tocsin` package.
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -339,5 +512,8 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(collide, m)?)?;
     m.add_function(wrap_pyfunction!(collide_pairs, m)?)?;
     m.add_function(wrap_pyfunction!(within_distance, m)?)?;
+    m.add_class::<Motion>()?;
+    m.add_class::<ContactResult>()?;
+    m.add_function(wrap_pyfunction!(time_of_contact, m)?)?;
     Ok(())
 }

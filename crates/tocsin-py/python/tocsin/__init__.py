@@ -12,25 +12,32 @@ to world coordinates (the convention of trimesh and robotics).
 """
 
 from ._core import (
+    ContactResult,
     DistanceResult,
     Mesh,
+    Motion,
     collide,
     collide_pairs,
     distance,
+    time_of_contact,
     within_distance,
 )
-from ._errors import MeshError, MeshFileError, OptionsError, PoseError, TocsinError
+from ._errors import MeshError, MeshFileError, MotionError, OptionsError, PoseError, TocsinError
 
 __all__ = [
+    "ContactResult",
     "DistanceResult",
     "Mesh",
     "MeshError",
     "MeshFileError",
+    "Motion",
+    "MotionError",
     "OptionsError",
     "PoseError",
     "TocsinError",
     "collide",
     "collide_pairs",
     "distance",
+    "time_of_contact",
     "within_distance",
 ]

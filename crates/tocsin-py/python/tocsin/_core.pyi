@@ -1,7 +1,7 @@
 """Type stubs of the compiled core. Units are the models'; points are in the world frame."""
 
 from os import PathLike
-from typing import Union
+from typing import Literal, Optional, Sequence, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -95,3 +95,72 @@ def within_distance(
     mesh1: Mesh, pose1: ArrayLike, mesh2: Mesh, pose2: ArrayLike, threshold: float
 ) -> bool:
     """Whether the distance is at most threshold (model units); stops early."""
+
+class Motion:
+    """A rigid motion over t in [0, 1] between two 4x4 rigid poses (world frame)."""
+
+    @staticmethod
+    def translation(start: ArrayLike, end: ArrayLike) -> Motion:
+        """Pure translation: X(t) = R0 x + (1 - t) p0 + t p1. The rotations of start and end
+        must agree within 1e-9, else MotionError."""
+    @staticmethod
+    def interp(start: ArrayLike, end: ArrayLike, center: Optional[Sequence[float]] = None) -> Motion:
+        """The body point center (body frame, default origin) moves on a straight line; the body
+        turns about it at constant angular velocity, R(t) = exp(t log(R1 R0^T)) R0 (angle in
+        [0, pi]). With center = 0 this is FCL's InterpMotion."""
+    @staticmethod
+    def screw(start: ArrayLike, end: ArrayLike) -> Motion:
+        """The SE(3) geodesic T(t) = exp(t log(T1 T0^-1)) T0: rotation about a fixed world axis
+        with translation along it."""
+    @staticmethod
+    def stationary(pose: ArrayLike) -> Motion:
+        """A body that does not move."""
+    def pose_at(self, t: float) -> npt.NDArray[np.float64]:
+        """The 4x4 pose at time t."""
+    @property
+    def kind(self) -> Literal["translation", "interp", "screw"]:
+        """Which interpolation the motion follows."""
+
+class ContactResult:
+    """When and where two moving meshes first come within the tolerance."""
+
+    @property
+    def time(self) -> float:
+        """Time of contact in [0, 1], no later than the first collision."""
+    @property
+    def point1(self) -> npt.NDArray[np.float64]:
+        """Closest point on mesh 1 at `time`, world frame, shape (3,)."""
+    @property
+    def point2(self) -> npt.NDArray[np.float64]:
+        """Closest point on mesh 2 at `time`, world frame, shape (3,)."""
+    @property
+    def normal(self) -> npt.NDArray[np.float64]:
+        """Unit normal from body 1 to body 2, world frame, shape (3,)."""
+    @property
+    def distance(self) -> float:
+        """Distance at `time`, model units (at most the tolerance unless status is
+        'iteration_limit')."""
+    @property
+    def triangle1(self) -> int:
+        """Triangle of mesh 1 holding point1."""
+    @property
+    def triangle2(self) -> int:
+        """Triangle of mesh 2 holding point2."""
+    @property
+    def iterations(self) -> int:
+        """Conservative-advancement iterations taken."""
+    @property
+    def status(self) -> Literal["converged", "started_in_contact", "iteration_limit"]:
+        """How the query ended; 'iteration_limit' means `time` is collision-free but the
+        tolerance was not reached within max_iterations."""
+
+def time_of_contact(
+    mesh1: Mesh,
+    motion1: Motion,
+    mesh2: Mesh,
+    motion2: Motion,
+    tolerance: Optional[float] = None,
+    max_iterations: Optional[int] = None,
+) -> Optional[ContactResult]:
+    """First time of contact over t in [0, 1], or None when the meshes stay farther apart than
+    tolerance (model units; default 1e-3 of the smaller bounding radius). The GIL is released."""

@@ -19,5 +19,10 @@ class PoseError(TocsinError, ValueError):
     a scale or shear, or a last row other than ``[0, 0, 0, 1]``."""
 
 
+class MotionError(TocsinError, ValueError):
+    """A motion is invalid: a start or end pose that is not rigid, a non-finite centre, or a
+    translation whose end rotation differs from its start rotation (beyond 1e-9)."""
+
+
 class OptionsError(TocsinError, ValueError):
     """A query option (tolerance, error bound, threshold) is negative, NaN or infinite."""

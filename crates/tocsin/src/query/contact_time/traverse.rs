@@ -29,9 +29,6 @@ pub(crate) struct StepSearch<'a> {
     motion1: &'a Motion,
     motion2: &'a Motion,
     delta: f64,
-    /// Per node: distance bound of its points from the motion's rotation axis.
-    axis1: Vec<f64>,
-    axis2: Vec<f64>,
     // Per-iteration state.
     rot12: Mat3,
     trans12: Vec3,
@@ -44,12 +41,11 @@ pub(crate) struct StepSearch<'a> {
     stack: Vec<(u32, u32, f64)>,
 }
 
-/// Axis-distance bounds of every node: RSS centre's distance from the axis plus its radius.
-fn axis_bounds(bvh: &Bvh, motion: &Motion) -> Vec<f64> {
-    bvh.nodes()
-        .iter()
-        .map(|n| motion.axis_distance(n.rss.center) + n.rss.bounding_radius())
-        .collect()
+/// Bound on the distance of a node's points from the motion's rotation axis: the RSS centre's
+/// distance plus the volume's bounding radius (computed on demand: a query touches few nodes).
+#[inline]
+fn axis_bound(node: &Node, motion: &Motion) -> f64 {
+    motion.axis_distance(node.rss.center) + node.rss.bounding_radius()
 }
 
 impl<'a> StepSearch<'a> {
@@ -66,8 +62,6 @@ impl<'a> StepSearch<'a> {
             motion1,
             motion2,
             delta,
-            axis1: axis_bounds(mesh1.bvh(), motion1),
-            axis2: axis_bounds(mesh2.bvh(), motion2),
             rot12: Mat3::IDENTITY,
             trans12: Vec3::ZERO,
             rot1: Mat3::IDENTITY,
@@ -97,20 +91,17 @@ impl<'a> StepSearch<'a> {
         }
     }
 
-    /// Certified step of a node pair whose relative frame is `rel`.
+    /// Certified step of a node pair whose relative frame is `rel`. The separating-axis search
+    /// stops early once the gap proves the pair prunable whatever the axis: every directional
+    /// bound is at most the speed bound `|v| + |w| rho` of each body.
     #[inline]
     fn node_step(&self, n1: u32, n2: u32, rel: &RelativeRss) -> f64 {
-        let (a, b) = (
-            &self.bvh1.nodes()[n1 as usize],
-            &self.bvh2.nodes()[n2 as usize],
-        );
-        let (gap, axis) = rss_separation(&a.rss, &b.rss, rel, f64::INFINITY);
-        self.step(
-            gap,
-            a.rss.axes * axis,
-            self.axis1[n1 as usize],
-            self.axis2[n2 as usize],
-        )
+        let (a, b) = (&self.bvh1.nodes()[n1 as usize], &self.bvh2.nodes()[n2 as usize]);
+        let (rho1, rho2) = (axis_bound(a, self.motion1), axis_bound(b, self.motion2));
+        let mu_max = self.motion1.speed_bound(rho1) + self.motion2.speed_bound(rho2);
+        let cutoff = 0.5 * self.delta + mu_max * self.best / (1.0 + self.slack);
+        let (gap, axis) = rss_separation(&a.rss, &b.rss, rel, cutoff);
+        self.step(gap, a.rss.axes * axis, rho1, rho2)
     }
 
     /// Evaluates a triangle pair: `true` when it is within the tolerance.

@@ -1,0 +1,73 @@
+"""time_of_contact and Motion through Python, against dense sampling with tocsin.collide."""
+
+import numpy as np
+import pytest
+
+import tocsin
+
+
+def pose(t=(0, 0, 0), axis=(0, 0, 1), angle=0.0):
+    a = np.asarray(axis, float) / np.linalg.norm(axis)
+    k = np.array([[0, -a[2], a[1]], [a[2], 0, -a[0]], [-a[1], a[0], 0]])
+    m = np.eye(4)
+    m[:3, :3] = np.eye(3) + np.sin(angle) * k + (1 - np.cos(angle)) * k @ k
+    m[:3, 3] = t
+    return m
+
+
+def first_sampled_collision(m1, mo1, m2, mo2, n=1000):
+    for i in range(n + 1):
+        t = i / n
+        if tocsin.collide(m1, mo1.pose_at(t), m2, mo2.pose_at(t)):
+            return t
+    return None
+
+
+@pytest.mark.parametrize("kind", ["translation", "interp", "screw"])
+def test_knot_through_knot(kind):
+    knot = tocsin.Mesh.torus_knot(100, 8)
+    start = pose((-10, 0.3, 0))
+    end = pose((10, -0.2, 0.1), (0.2, 1, 0.3), 0.0 if kind == "translation" else 1.2)
+    motion = getattr(tocsin.Motion, kind)(start, end)
+    still = tocsin.Motion.stationary(np.eye(4))
+    r = tocsin.time_of_contact(knot, motion, knot, still, tolerance=1e-3)
+    t_hit = first_sampled_collision(knot, motion, knot, still)
+    assert t_hit is not None and r is not None
+    assert r.time <= t_hit
+    assert r.status == "converged"
+    d = tocsin.distance(knot, motion.pose_at(r.time), knot, np.eye(4)).distance
+    assert d <= 1e-3 and r.distance == pytest.approx(d, rel=1e-9, abs=1e-15)
+    assert np.linalg.norm(r.normal) == pytest.approx(1.0)
+    assert r.point1.shape == (3,) and r.iterations >= 1
+
+
+def test_miss_and_start_in_contact():
+    box = tocsin.Mesh.box([0.5, 0.5, 0.5])
+    still = tocsin.Motion.stationary(np.eye(4))
+    miss = tocsin.Motion.translation(pose((-3, 0, 2)), pose((3, 0, 2)))
+    assert tocsin.time_of_contact(box, miss, box, still) is None
+    inside = tocsin.Motion.translation(pose((0.2, 0, 0)), pose((3, 0, 0)))
+    r = tocsin.time_of_contact(box, inside, box, still)
+    assert r is not None and r.time == 0.0 and r.status == "started_in_contact"
+
+
+def test_pose_at_endpoints_and_kind():
+    a, b = pose((1, 2, 3), (1, 0, 0), 0.3), pose((-1, 0, 2), (0, 1, 1), 2.0)
+    for m in (tocsin.Motion.interp(a, b, center=[0.1, 0.2, 0.3]), tocsin.Motion.screw(a, b)):
+        assert np.allclose(m.pose_at(0.0), a) and np.allclose(m.pose_at(1.0), b)
+    assert tocsin.Motion.screw(a, b).kind == "screw"
+
+
+def test_motion_and_option_errors():
+    a = pose()
+    with pytest.raises(tocsin.MotionError, match="same rotation"):
+        tocsin.Motion.translation(a, pose(angle=0.5))
+    with pytest.raises(tocsin.PoseError):
+        tocsin.Motion.screw(a, np.diag([1.0, 1.0, -1.0, 1.0]))
+    box = tocsin.Mesh.box([1, 1, 1])
+    still = tocsin.Motion.stationary(a)
+    with pytest.raises(tocsin.OptionsError):
+        tocsin.time_of_contact(box, still, box, still, tolerance=-1.0)
+    with pytest.raises(tocsin.OptionsError):
+        tocsin.time_of_contact(box, still, box, still, max_iterations=0)
+    assert issubclass(tocsin.MotionError, ValueError)
