@@ -15,9 +15,15 @@
 //! Deviation from C2A: steps are taken against `delta / 2` rather than 0, so that the iteration
 //! provably reaches a time where a triangle pair is within `delta` (and stops) whenever the
 //! meshes come closer than `delta / 2`, instead of converging to the contact from below
-//! forever. Control: far from contact (last distance above `max(50 delta, R / 50)`, R the
-//! smaller bounding radius) pairs may be pruned when their step is within 25% of the best, and
-//! the step is shrunk by that factor; near contact the search is exact.
+//! forever.
+//!
+//! Control (C2A's approximate-far, accurate-near): a node pair may be pruned when its step is
+//! within a relative `slack` of the best, and the step taken is shrunk by `1 + slack`, which
+//! keeps it safe. Far from contact (last distance above `max(50 delta, R / 50)`, R the smaller
+//! bounding radius) the slack is [`FAR_SLACK`]; near contact [`NEAR_SLACK`]. Deviation: C2A is
+//! exact near contact, but measured on knot34k (60 + 40 queries per motion kind) an exact
+//! search there was 15 to 25% slower at the median and up to 2x at the 90th percentile: the
+//! last iterations visit the most pairs, and a 20% shorter step costs less than the visits.
 
 mod traverse;
 
@@ -28,6 +34,11 @@ use crate::query::collide::collide;
 use crate::query::distance::{search_distance, DistanceCache, DistanceOptions};
 use crate::TriMesh;
 use traverse::{StepOutcome, StepSearch};
+
+/// Relative step slack far from contact (see the module docs).
+pub const FAR_SLACK: f64 = 0.5;
+/// Relative step slack near contact (see the module docs).
+pub const NEAR_SLACK: f64 = 0.2;
 
 /// Options of [`time_of_contact`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -159,7 +170,11 @@ pub fn time_of_contact_with_cache(
     let mut t = 0.0;
     let mut last_distance = f64::INFINITY;
     for iteration in 1..=options.max_iterations {
-        let slack = if last_distance > far { 0.25 } else { 0.0 };
+        let slack = if last_distance > far {
+            FAR_SLACK
+        } else {
+            NEAR_SLACK
+        };
         match search.run(t, slack, cache.pair) {
             StepOutcome::Within { pair } => {
                 cache.pair = Some(pair);

@@ -96,7 +96,10 @@ impl<'a> StepSearch<'a> {
     /// bound is at most the speed bound `|v| + |w| rho` of each body.
     #[inline]
     fn node_step(&self, n1: u32, n2: u32, rel: &RelativeRss) -> f64 {
-        let (a, b) = (&self.bvh1.nodes()[n1 as usize], &self.bvh2.nodes()[n2 as usize]);
+        let (a, b) = (
+            &self.bvh1.nodes()[n1 as usize],
+            &self.bvh2.nodes()[n2 as usize],
+        );
         let (rho1, rho2) = (axis_bound(a, self.motion1), axis_bound(b, self.motion2));
         let mu_max = self.motion1.speed_bound(rho1) + self.motion2.speed_bound(rho2);
         let cutoff = 0.5 * self.delta + mu_max * self.best / (1.0 + self.slack);

@@ -1,0 +1,241 @@
+//! Time-of-contact benchmark with its oracle (`make bench`; not part of `make test`).
+//!
+//! Per model and motion kind, seeded: 60 queries driving body 1 from clear through body 2
+//! (fixed at the identity) with a 30 to 90 degree rotation (none for translations), and 40
+//! near misses whose closest approach is about 1% of the bounding radius. Reports median and
+//! 90th-percentile time per query, median iterations, and against an oracle (1,000 exact
+//! collide samples refined by bisection; exact distance at the reported time): misses, late
+//! answers and false positives (a reported time whose distance exceeds the tolerance or that is
+//! in collision). Models: knot2.8k, knot11k, knot34k, and when pybullet_data is found (set
+//! TOCSIN_PYBULLET_DATA or install it in .venv) the bunny and a Franka Panda visual link.
+//! `TOCSIN_BENCH_QUICK=1` runs 10 + 5 queries per cell; `TOCSIN_BENCH_MODELS=knot34k,bunny`
+//! keeps only those models.
+
+#![allow(clippy::unwrap_used, clippy::panic)]
+
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use std::time::Instant;
+use tocsin::{
+    collide, distance, mesh, time_of_contact, ContactOptions, DistanceOptions, Mat3, Motion, Pose,
+    TriMesh, Vec3,
+};
+
+fn pybullet_data() -> Option<std::path::PathBuf> {
+    if let Ok(p) = std::env::var("TOCSIN_PYBULLET_DATA") {
+        return Some(p.into());
+    }
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../.venv/lib");
+    std::fs::read_dir(root)
+        .ok()?
+        .flatten()
+        .map(|e| e.path().join("site-packages/pybullet_data"))
+        .find(|p| p.exists())
+}
+
+fn models() -> Vec<(String, TriMesh)> {
+    let mut out = vec![
+        ("knot2.8k".to_string(), mesh::torus_knot(175, 8).unwrap()),
+        ("knot11k".to_string(), mesh::torus_knot(344, 16).unwrap()),
+        ("knot34k".to_string(), mesh::torus_knot(680, 25).unwrap()),
+    ];
+    if let Some(root) = pybullet_data() {
+        for (name, rel) in [
+            ("bunny", "bunny.obj"),
+            ("panda_link1", "franka_panda/meshes/visual/link1.obj"),
+        ] {
+            match TriMesh::load(root.join(rel)) {
+                Ok(m) => out.push((name.to_string(), m)),
+                Err(e) => eprintln!("skipping {name}: {e}"),
+            }
+        }
+    } else {
+        eprintln!("pybullet_data not found: bunny and Panda skipped");
+    }
+    if let Ok(keep) = std::env::var("TOCSIN_BENCH_MODELS") {
+        let keep: Vec<&str> = keep.split(',').collect();
+        out.retain(|(name, _)| keep.contains(&name.as_str()));
+    }
+    out
+}
+
+fn unit(rng: &mut ChaCha8Rng) -> Vec3 {
+    loop {
+        let v = Vec3::new(
+            rng.random_range(-1.0..1.0),
+            rng.random_range(-1.0..1.0),
+            rng.random_range(-1.0..1.0),
+        );
+        if v.length() > 0.2 && v.length() <= 1.0 {
+            return v.normalize();
+        }
+    }
+}
+
+/// Body 1's motion of the given kind from `start` to `end`, rotating by `angle` about `axis`.
+fn motion(kind: usize, from: Vec3, to: Vec3, axis: Vec3, angle: f64) -> Motion {
+    let r0 = Mat3::from_axis_angle(axis.any_orthonormal_vector(), 0.4);
+    let start = Pose {
+        rotation: r0,
+        translation: from,
+    };
+    let end = Pose {
+        rotation: Mat3::from_axis_angle(axis, angle) * r0,
+        translation: to,
+    };
+    match kind {
+        0 => Motion::translation(
+            start,
+            Pose {
+                rotation: r0,
+                translation: to,
+            },
+        )
+        .unwrap(),
+        1 => Motion::interp(start, end, Vec3::ZERO).unwrap(),
+        _ => Motion::screw(start, end).unwrap(),
+    }
+}
+
+struct Oracle {
+    first: Option<f64>,
+}
+
+fn oracle(m: &TriMesh, mo: &Motion) -> Oracle {
+    let hit = |t: f64| collide(m, &mo.pose_at(t), m, &Pose::IDENTITY);
+    let n = 1000;
+    for i in 0..=n {
+        let t = i as f64 / n as f64;
+        if hit(t) {
+            let (mut lo, mut hi) = (t - 1.0 / n as f64, t);
+            for _ in 0..40 {
+                let mid = 0.5 * (lo + hi);
+                if hit(mid) {
+                    hi = mid
+                } else {
+                    lo = mid
+                }
+            }
+            return Oracle { first: Some(hi) };
+        }
+    }
+    Oracle { first: None }
+}
+
+/// A pass of body 1 from `from` to `to`, turning by `angle` about `axis`.
+#[derive(Clone, Copy)]
+struct Pass {
+    kind: usize,
+    from: Vec3,
+    to: Vec3,
+    axis: Vec3,
+    angle: f64,
+}
+
+impl Pass {
+    fn shifted(&self, by: Vec3) -> Motion {
+        motion(
+            self.kind,
+            self.from + by,
+            self.to + by,
+            self.axis,
+            self.angle,
+        )
+    }
+}
+
+/// The pass shifted sideways to where body 1 just stops colliding (bisection on 200 samples),
+/// plus 1% of the radius: a near miss.
+fn near_miss(m: &TriMesh, pass: Pass, side: Vec3, r: f64) -> Motion {
+    let collides = |o: f64| {
+        let mo = pass.shifted(side * o);
+        (0..=200).any(|k| collide(m, &mo.pose_at(k as f64 / 200.0), m, &Pose::IDENTITY))
+    };
+    let (mut lo, mut hi) = (0.0, 3.0 * r);
+    for _ in 0..30 {
+        let mid = 0.5 * (lo + hi);
+        if collides(mid) {
+            lo = mid
+        } else {
+            hi = mid
+        }
+    }
+    pass.shifted(side * (hi + 0.01 * r))
+}
+
+fn percentile(v: &mut [f64], p: f64) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v[((v.len() - 1) as f64 * p).round() as usize]
+}
+
+fn main() {
+    let quick = std::env::var_os("TOCSIN_BENCH_QUICK").is_some();
+    let (n_through, n_near) = if quick { (10, 5) } else { (60, 40) };
+    println!("| model | triangles | motion | median (us) | p90 (us) | median iterations | contacts | misses | late | false positives |");
+    println!("|---|---:|---|---:|---:|---:|---:|---:|---:|---:|");
+    for (name, m) in models() {
+        let r = m.bounding_radius();
+        let opts = ContactOptions::default();
+        let delta = tocsin::query::contact_time::effective_tolerance(&m, &m, &opts);
+        for (kind, kind_name) in [(0, "translation"), (1, "interp"), (2, "screw")] {
+            let mut rng = ChaCha8Rng::seed_from_u64(7 + kind as u64);
+            let (mut times, mut iters) = (Vec::new(), Vec::new());
+            let (mut contacts, mut misses, mut late, mut fps) = (0, 0, 0, 0);
+            for q in 0..n_through + n_near {
+                let d = unit(&mut rng);
+                let axis = unit(&mut rng);
+                let angle = rng.random_range(30f64..90.0).to_radians();
+                let lateral = unit(&mut rng).cross(d).normalize() * rng.random_range(0.0..0.2) * r;
+                let (from, to) = (-2.5 * r * d + lateral, 2.5 * r * d - lateral);
+                let mo = if q < n_through {
+                    motion(kind, from, to, axis, angle)
+                } else {
+                    let pass = Pass {
+                        kind,
+                        from: -2.5 * r * d,
+                        to: 2.5 * r * d,
+                        axis,
+                        angle,
+                    };
+                    near_miss(&m, pass, unit(&mut rng).cross(d).normalize(), r)
+                };
+                let still = Motion::stationary(Pose::IDENTITY);
+                let start = Instant::now();
+                let result = time_of_contact(&m, &mo, &m, &still, &opts).unwrap();
+                times.push(start.elapsed().as_secs_f64() * 1e6);
+                let o = oracle(&m, &mo);
+                match (&result, o.first) {
+                    (None, Some(_)) => misses += 1,
+                    (Some(c), first) => {
+                        contacts += 1;
+                        iters.push(c.iterations as f64);
+                        if first.is_some_and(|f| c.time > f) {
+                            late += 1;
+                        }
+                        let p1 = mo.pose_at(c.time);
+                        let exact =
+                            distance(&m, &p1, &m, &Pose::IDENTITY, &DistanceOptions::default())
+                                .unwrap()
+                                .distance;
+                        if exact > delta * (1.0 + 1e-9) || collide(&m, &p1, &m, &Pose::IDENTITY) {
+                            fps += 1;
+                        }
+                    }
+                    (None, None) => {}
+                }
+            }
+            let med = percentile(&mut times.clone(), 0.5);
+            let p90 = percentile(&mut times, 0.9);
+            let it = if iters.is_empty() {
+                0.0
+            } else {
+                percentile(&mut iters, 0.5)
+            };
+            println!(
+                "| {name} | {} | {kind_name} | {med:.0} | {p90:.0} | {it:.0} | {contacts}/{} | {misses} | {late} | {fps} |",
+                m.num_triangles(),
+                n_through + n_near
+            );
+        }
+    }
+}
