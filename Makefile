@@ -7,7 +7,7 @@ VENV := .venv
 VPY := $(VENV)/bin/python
 CARGO ?= cargo
 
-.PHONY: demo test venv develop lint rust-test py-test bench bench-python clean
+.PHONY: demo test venv develop lint rust-test py-test bench bench-python bench-parry clean
 
 demo:
 	$(CARGO) run --release -q -p tocsin --example demo
@@ -34,14 +34,20 @@ py-test: develop
 
 test: lint rust-test py-test
 
-bench:
-	$(CARGO) bench -p tocsin --bench queries
-	$(MAKE) bench-python
+bench: bench-python
+	$(CARGO) bench -p tocsin
+	$(MAKE) bench-parry
 
-# Side-by-side with python-fcl; installs python-fcl and pybullet (for its meshes) in the venv.
+# Side-by-side with python-fcl (distance, collide, continuous collision); installs python-fcl
+# and pybullet (for its meshes) in the venv.
 bench-python: develop
 	$(VPY) -m pip install -q python-fcl pybullet
 	$(VPY) bench/compare_fcl.py
+	$(VPY) bench/compare_fcl_ccd.py
+
+# parry3d-f64's shape casts next to tocsin (its own cargo workspace, not built by `make test`).
+bench-parry:
+	cd bench/parry && $(CARGO) run --release -q -- 5
 
 clean:
 	$(CARGO) clean

@@ -8,8 +8,6 @@ Panda link). Usage: python bench/compare_fcl.py [--quick] [--out FILE]
 """
 
 import argparse
-import os
-import platform
 import statistics
 import sys
 import time
@@ -17,6 +15,7 @@ import time
 import numpy as np
 
 import tocsin
+from _common import fcl_model, machine_line, models, pose, rotation, write
 
 try:
     import fcl
@@ -24,44 +23,9 @@ except ImportError:  # pragma: no cover
     sys.exit("python-fcl is not installed: pip install python-fcl (make bench-python does)")
 
 
-def rotation(axis, angle):
-    a = np.asarray(axis, float) / np.linalg.norm(axis)
-    k = np.array([[0, -a[2], a[1]], [a[2], 0, -a[0]], [-a[1], a[0], 0]])
-    return np.eye(3) + np.sin(angle) * k + (1 - np.cos(angle)) * k @ k
-
-
-def models(quick):
-    out = {
-        "knot2.8k": tocsin.Mesh.torus_knot(175, 8),
-        "knot11k": tocsin.Mesh.torus_knot(344, 16),
-        "knot34k": tocsin.Mesh.torus_knot(680, 25),
-    }
-    try:
-        import pybullet_data
-
-        root = pybullet_data.getDataPath()
-        out["bunny"] = tocsin.Mesh.load(os.path.join(root, "bunny.obj"))
-        out["panda_link0"] = tocsin.Mesh.load(os.path.join(root, "franka_panda", "meshes", "collision", "link0.obj"))
-    except ImportError:
-        print("pybullet_data not installed: real meshes skipped", file=sys.stderr)
-    if quick:
-        out = {k: out[k] for k in list(out)[:1]}
-    return out
-
-
-def fcl_model(mesh):
-    m = fcl.BVHModel()
-    m.beginModel(mesh.num_vertices, mesh.num_triangles)
-    m.addSubModel(mesh.vertices, mesh.triangles)
-    m.endModel()
-    return m
-
-
-def pose(rot, t):
-    p = np.eye(4)
-    p[:3, :3] = rot
-    p[:3, 3] = t
-    return p
+def selected_models(quick):
+    out = models(["knot2.8k", "knot11k", "knot34k", "bunny", "panda_link0"])
+    return {k: out[k] for k in list(out)[:1]} if quick else out
 
 
 def timed(fn, repeats):
@@ -93,7 +57,7 @@ def main():
     rng = np.random.default_rng(2026)
     n_poses, repeats = (2, 5) if args.quick else (8, 30)
     rows = []
-    for name, mesh in models(args.quick).items():
+    for name, mesh in selected_models(args.quick).items():
         fm = fcl_model(mesh)
         radius = float(np.linalg.norm(mesh.vertices - mesh.vertices.mean(0), axis=1).max())
         o1 = fcl.CollisionObject(fm, fcl.Transform())
@@ -129,15 +93,8 @@ def main():
                 t_fcl.append(timed(lambda: fcl.collide(o1, o2, creq, fcl.CollisionResult()), repeats))
             a, b = statistics.median(t_ours), statistics.median(t_fcl)
             rows.append((name, mesh.num_triangles, label, a, b, f"{agree}/{n_poses} agree"))
-    cpu = platform.processor() or platform.machine()
-    try:
-        with open("/proc/cpuinfo") as f:
-            cpu = next(line.split(":", 1)[1].strip() for line in f if line.startswith("model name"))
-    except (OSError, StopIteration):
-        pass
     lines = [
-        f"Machine: {cpu}, {os.cpu_count()} cores, Python {platform.python_version()}, "
-        f"python-fcl {getattr(fcl, '__version__', '?')}, numpy {np.__version__}; "
+        f"{machine_line()}, python-fcl {getattr(fcl, '__version__', '?')}; "
         f"median of {n_poses} poses x {repeats} repeats, single thread, through Python for both.",
         "",
         "| model | triangles | query | tocsin (us) | python-fcl (us) | fcl / tocsin | check |",
@@ -145,11 +102,7 @@ def main():
     ]
     for name, n, q, a, b, check in rows:
         lines.append(f"| {name} | {n} | {q} | {a * 1e6:.1f} | {b * 1e6:.1f} | {b / a:.2f}x | {check} |")
-    text = "\n".join(lines)
-    print(text)
-    os.makedirs(os.path.dirname(args.out) or ".", exist_ok=True)
-    with open(args.out, "w") as f:
-        f.write(text + "\n")
+    write(args.out, "\n".join(lines))
 
 
 if __name__ == "__main__":

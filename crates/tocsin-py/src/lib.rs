@@ -84,6 +84,17 @@ fn pose_from(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Pose> {
         .map_err(|e| error(py, "PoseError", format!("{name}: {e}")))
 }
 
+/// A query's two meshes (shared, for use without the GIL) and their checked poses.
+fn scene(
+    mesh1: &Mesh,
+    pose1: &Bound<'_, PyAny>,
+    mesh2: &Mesh,
+    pose2: &Bound<'_, PyAny>,
+) -> PyResult<(Arc<TriMesh>, Pose, Arc<TriMesh>, Pose)> {
+    let (p1, p2) = (pose_from(pose1, "pose1")?, pose_from(pose2, "pose2")?);
+    Ok((mesh1.inner.clone(), p1, mesh2.inner.clone(), p2))
+}
+
 fn vec3<'py>(py: Python<'py>, v: Vec3) -> Bound<'py, PyArray1<f64>> {
     PyArray1::from_slice(py, &v.to_array())
 }
@@ -267,8 +278,7 @@ fn distance(
     relative_error: f64,
     absolute_error: f64,
 ) -> PyResult<DistanceResult> {
-    let (p1, p2) = (pose_from(pose1, "pose1")?, pose_from(pose2, "pose2")?);
-    let (m1, m2) = (mesh1.inner.clone(), mesh2.inner.clone());
+    let (m1, p1, m2, p2) = scene(mesh1, pose1, mesh2, pose2)?;
     let opts = tocsin::DistanceOptions {
         relative_error,
         absolute_error,
@@ -293,8 +303,7 @@ fn collide(
     mesh2: &Mesh,
     pose2: &Bound<'_, PyAny>,
 ) -> PyResult<bool> {
-    let (p1, p2) = (pose_from(pose1, "pose1")?, pose_from(pose2, "pose2")?);
-    let (m1, m2) = (mesh1.inner.clone(), mesh2.inner.clone());
+    let (m1, p1, m2, p2) = scene(mesh1, pose1, mesh2, pose2)?;
     Ok(py.detach(|| tocsin::collide(&m1, &p1, &m2, &p2)))
 }
 
@@ -306,8 +315,7 @@ fn collide_pairs<'py>(
     mesh2: &Mesh,
     pose2: &Bound<'_, PyAny>,
 ) -> PyResult<Bound<'py, PyArray2<i64>>> {
-    let (p1, p2) = (pose_from(pose1, "pose1")?, pose_from(pose2, "pose2")?);
-    let (m1, m2) = (mesh1.inner.clone(), mesh2.inner.clone());
+    let (m1, p1, m2, p2) = scene(mesh1, pose1, mesh2, pose2)?;
     let pairs = py.detach(|| tocsin::collide_pairs(&m1, &p1, &m2, &p2));
     let flat: Vec<i64> = pairs
         .iter()
@@ -325,8 +333,7 @@ fn within_distance(
     pose2: &Bound<'_, PyAny>,
     threshold: f64,
 ) -> PyResult<bool> {
-    let (p1, p2) = (pose_from(pose1, "pose1")?, pose_from(pose2, "pose2")?);
-    let (m1, m2) = (mesh1.inner.clone(), mesh2.inner.clone());
+    let (m1, p1, m2, p2) = scene(mesh1, pose1, mesh2, pose2)?;
     py.detach(|| tocsin::within_distance(&m1, &p1, &m2, &p2, threshold))
         .map_err(|e| error(py, "OptionsError", e.to_string()))
 }

@@ -174,3 +174,38 @@ fn bad_motions_are_errors() {
     assert!(Motion::screw(a, Pose::from_translation(Vec3::new(f64::NAN, 0.0, 0.0))).is_err());
     assert!(Motion::interp(a, b, Vec3::new(f64::INFINITY, 0.0, 0.0)).is_err());
 }
+
+#[test]
+fn windowed_bound_holds_over_its_window() {
+    let mut rng = rng(43);
+    for _ in 0..100 {
+        for m in motions(&mut rng) {
+            for _ in 0..10 {
+                let center = Vec3::new(
+                    rng.random_range(-2.0..2.0),
+                    rng.random_range(-2.0..2.0),
+                    rng.random_range(-2.0..2.0),
+                );
+                let radius = rng.random_range(0.0..0.5);
+                let x = center + random_unit(&mut rng) * radius * rng.random_range(0.0..1.0);
+                let n = random_unit(&mut rng);
+                let t: f64 = rng.random_range(0.0..0.9);
+                let window: f64 = rng.random_range(0.001..(1.0 - t));
+                let rot = m.pose_at(t).rotation;
+                let mu = m.directional_bound_window(n, &rot, center, radius, window);
+                let h = 1e-7;
+                for k in 0..=20 {
+                    let s = t + window * k as f64 / 20.0;
+                    let speed = n
+                        .dot(m.pose_at(s + h).transform_point(x) - m.pose_at(s).transform_point(x))
+                        / h;
+                    assert!(
+                        speed <= mu + 1e-4 * (1.0 + mu.abs()),
+                        "{:?}: speed {speed} > windowed bound {mu}",
+                        m.kind()
+                    );
+                }
+            }
+        }
+    }
+}

@@ -172,21 +172,16 @@ pub(crate) fn rss_separation(a: &Rss, b: &Rss, rel: &RelativeRss, cutoff: f64) -
         rel.r.y_axis.dot(t),
         rel.r.z_axis.dot(t),
     ];
-    // Face axes of both rectangles: unit, so the gap needs no division.
-    let faces = [
-        t.z.abs() - lb0 * ar(2, 0) - lb1 * ar(2, 1),
-        t.x.abs() - la0 - lb0 * ar(0, 0) - lb1 * ar(0, 1),
-        t.y.abs() - la1 - lb0 * ar(1, 0) - lb1 * ar(1, 1),
-        bt[2].abs() - la0 * ar(0, 2) - la1 * ar(1, 2),
-        bt[0].abs() - la0 * ar(0, 0) - la1 * ar(1, 0) - lb0,
-        bt[1].abs() - la0 * ar(0, 1) - la1 * ar(1, 1) - lb1,
-    ];
-    let mut which = 0;
-    for (k, &g) in faces.iter().enumerate().skip(1) {
-        if g > faces[which] {
-            which = k;
-        }
-    }
+    // Face axes of both rectangles: unit, so the gap needs no division. Evaluated one at a
+    // time so that a separated pair (most pairs in collide) returns at its first gap.
+    let face_gap = |k: usize| match k {
+        0 => t.z.abs() - lb0 * ar(2, 0) - lb1 * ar(2, 1),
+        1 => t.x.abs() - la0 - lb0 * ar(0, 0) - lb1 * ar(0, 1),
+        2 => t.y.abs() - la1 - lb0 * ar(1, 0) - lb1 * ar(1, 1),
+        3 => bt[2].abs() - la0 * ar(0, 2) - la1 * ar(1, 2),
+        4 => bt[0].abs() - la0 * ar(0, 0) - la1 * ar(1, 0) - lb0,
+        _ => bt[1].abs() - la0 * ar(0, 1) - la1 * ar(1, 1) - lb1,
+    };
     let face_axis = |k: usize| match k {
         0 => Vec3::Z * t.z.signum(),
         1 => Vec3::X * t.x.signum(),
@@ -195,10 +190,17 @@ pub(crate) fn rss_separation(a: &Rss, b: &Rss, rel: &RelativeRss, cutoff: f64) -
         4 => rel.r.x_axis * bt[0].signum(),
         _ => rel.r.y_axis * bt[1].signum(),
     };
-    let mut best = faces[which] - rr;
-    if best >= cutoff {
-        return (best.max(0.0), face_axis(which));
+    let (mut which, mut face_best) = (0, f64::NEG_INFINITY);
+    for k in 0..6 {
+        let g = face_gap(k);
+        if g > face_best {
+            (which, face_best) = (k, g);
+            if g - rr >= cutoff {
+                return ((g - rr).max(0.0), face_axis(k));
+            }
+        }
     }
+    let mut best = face_best - rr;
     let mut axis = None;
     // Cross products e_i x b_j: a positive numerator is needed to beat the face axes, and
     // near-parallel edge pairs (tiny cross product) are skipped.

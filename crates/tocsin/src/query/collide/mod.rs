@@ -5,7 +5,7 @@
 //! separating axis shows a positive gap (beyond a rounding slack, so touching is never
 //! skipped). Leaves use [`intersect_triangle_triangle`]. No OBB is kept: see ARCHITECTURE.md.
 
-use crate::bvh::{rss_separation, RelativeRss};
+use crate::bvh::{rss_separation, ASide, BSide, RelativeRss, Rss};
 use crate::math::Pose;
 use crate::mesh::TriMesh;
 use crate::query::distance::intersect_triangle_triangle;
@@ -38,6 +38,9 @@ pub fn collide_pairs(
 }
 
 /// Calls `on_pair` for intersecting triangle pairs until it returns false.
+///
+/// A pair is on the stack only once its volumes are known to overlap (within the slack); when
+/// one volume is split, the other's transform is computed once for both children.
 fn traverse(
     mesh1: &TriMesh,
     pose1: &Pose,
@@ -55,42 +58,48 @@ fn traverse(
         + bvh1.root().center.length()
         + bvh2.root().center.length();
     let slack = 1e-13 * scale;
+    let apart = |a: &Rss, b: &Rss, rel: &RelativeRss| rss_separation(a, b, rel, slack).0 > slack;
+    if apart(
+        &nodes1[0].rss,
+        &nodes2[0].rss,
+        &RelativeRss::new(&nodes1[0].rss, &nodes2[0].rss, &rot12, trans12),
+    ) {
+        return;
+    }
     let mut stack: Vec<(u32, u32)> = vec![(0, 0)];
     while let Some((n1, n2)) = stack.pop() {
         let (a, b) = (&nodes1[n1 as usize], &nodes2[n2 as usize]);
-        let rel = RelativeRss::new(&a.rss, &b.rss, &rot12, trans12);
-        if rss_separation(&a.rss, &b.rss, &rel, slack).0 > slack {
+        if a.is_leaf() && b.is_leaf() {
+            let t1 = &bvh1.leaf_triangles()[a.leaf_position() as usize];
+            let t2 = bvh2.leaf_triangles()[b.leaf_position() as usize].map(|p| rot12 * p + trans12);
+            if intersect_triangle_triangle(t1, &t2)
+                && !on_pair(
+                    bvh1.triangle_index(a.leaf_position()),
+                    bvh2.triangle_index(b.leaf_position()),
+                )
+            {
+                return;
+            }
             continue;
         }
-        match (a.is_leaf(), b.is_leaf()) {
-            (true, true) => {
-                let t1 = &bvh1.leaf_triangles()[a.leaf_position() as usize];
-                let t2 =
-                    bvh2.leaf_triangles()[b.leaf_position() as usize].map(|p| rot12 * p + trans12);
-                if intersect_triangle_triangle(t1, &t2)
-                    && !on_pair(
-                        bvh1.triangle_index(a.leaf_position()),
-                        bvh2.triangle_index(b.leaf_position()),
-                    )
-                {
-                    return;
+        if !a.is_leaf() && (b.is_leaf() || a.rss.size() >= b.rss.size()) {
+            let side = BSide::new(&b.rss, &rot12, trans12);
+            let (c1, c2) = a.children(n1);
+            for c in [c2, c1] {
+                let ca = &nodes1[c as usize].rss;
+                if !apart(ca, &b.rss, &RelativeRss::from_b_side(ca, &side)) {
+                    stack.push((c, n2));
                 }
             }
-            (false, true) => push_children_first(&mut stack, a.children(n1), n2, true),
-            (true, false) => push_children_first(&mut stack, b.children(n2), n1, false),
-            (false, false) => {
-                if a.rss.size() >= b.rss.size() {
-                    push_children_first(&mut stack, a.children(n1), n2, true);
-                } else {
-                    push_children_first(&mut stack, b.children(n2), n1, false);
+        } else {
+            let side = ASide::new(&a.rss, &rot12, trans12);
+            let (c1, c2) = b.children(n2);
+            for c in [c2, c1] {
+                let cb = &nodes2[c as usize].rss;
+                if !apart(&a.rss, cb, &RelativeRss::from_a_side(&side, cb)) {
+                    stack.push((n1, c));
                 }
             }
         }
-    }
-}
-
-fn push_children_first(stack: &mut Vec<(u32, u32)>, children: (u32, u32), other: u32, first: bool) {
-    for c in [children.1, children.0] {
-        stack.push(if first { (c, other) } else { (other, c) });
     }
 }

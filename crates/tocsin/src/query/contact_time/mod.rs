@@ -169,13 +169,16 @@ pub fn time_of_contact_with_cache(
     let mut search = StepSearch::new(mesh1, motion1, mesh2, motion2, delta);
     let mut t = 0.0;
     let mut last_distance = f64::INFINITY;
+    // Bounds are taken over a window twice the last step (the whole rest at first): tighter
+    // than over all of [t, 1] when the rotation axis is far from the bodies.
+    let mut window = 1.0_f64;
     for iteration in 1..=options.max_iterations {
         let slack = if last_distance > far {
             FAR_SLACK
         } else {
             NEAR_SLACK
         };
-        match search.run(t, slack, cache.pair) {
+        match search.run(t, window.min(1.0 - t), slack, cache.pair) {
             StepOutcome::Within { pair } => {
                 cache.pair = Some(pair);
                 return Ok(Some(finish(
@@ -196,6 +199,7 @@ pub fn time_of_contact_with_cache(
                     return Ok(None);
                 }
                 t += dt;
+                window = 2.0 * dt;
             }
         }
     }

@@ -34,6 +34,10 @@ pub(crate) struct StepSearch<'a> {
     trans12: Vec3,
     /// Mesh 1's rotation at the current time: mesh-1 frame to world.
     rot1: Mat3,
+    /// Mesh 2's world rotation at the current time.
+    rot2: Mat3,
+    /// Length of the time window the bounds are valid for (steps never exceed it).
+    window: f64,
     best: f64,
     best_pair: Option<(u32, u32)>,
     closest: f64,
@@ -41,11 +45,40 @@ pub(crate) struct StepSearch<'a> {
     stack: Vec<(u32, u32, f64)>,
 }
 
-/// Bound on the distance of a node's points from the motion's rotation axis: the RSS centre's
-/// distance plus the volume's bounding radius (computed on demand: a query touches few nodes).
-#[inline]
-fn axis_bound(node: &Node, motion: &Motion) -> f64 {
-    motion.axis_distance(node.rss.center) + node.rss.bounding_radius()
+/// A set of body points for the motion bounds: a ball (body frame) and a bound `rho` on the
+/// points' distance from the motion's rotation axis.
+struct PointSet {
+    center: Vec3,
+    radius: f64,
+    rho: f64,
+}
+
+impl PointSet {
+    /// A node's volume: its RSS centre and bounding radius (on demand: a query touches few nodes).
+    #[inline]
+    fn node(node: &Node, motion: &Motion) -> Self {
+        let (center, radius) = (node.rss.center, node.rss.bounding_radius());
+        Self {
+            center,
+            radius,
+            rho: motion.axis_distance(center) + radius,
+        }
+    }
+
+    /// A triangle: its centroid, the farthest corner, and the largest corner axis distance.
+    #[inline]
+    fn triangle(t: &[Vec3; 3], motion: &Motion) -> Self {
+        let center = (t[0] + t[1] + t[2]) / 3.0;
+        let radius = t.iter().fold(0.0_f64, |m, &p| m.max((p - center).length()));
+        let rho = t
+            .iter()
+            .fold(0.0_f64, |m, &p| m.max(motion.axis_distance(p)));
+        Self {
+            center,
+            radius,
+            rho,
+        }
+    }
 }
 
 impl<'a> StepSearch<'a> {
@@ -65,6 +98,8 @@ impl<'a> StepSearch<'a> {
             rot12: Mat3::IDENTITY,
             trans12: Vec3::ZERO,
             rot1: Mat3::IDENTITY,
+            rot2: Mat3::IDENTITY,
+            window: 1.0,
             best: 0.0,
             best_pair: None,
             closest: f64::INFINITY,
@@ -74,16 +109,35 @@ impl<'a> StepSearch<'a> {
     }
 
     /// Safe step for a gap `gap` along the mesh-1-frame unit direction `n` (from body 1 to
-    /// body 2) between sets whose axis distances are bounded by `rho1`, `rho2`.
+    /// body 2) between the point sets `s1` (of body 1) and `s2` (of body 2). Each body's speed
+    /// along the gap is the smaller of its whole-motion bound and its bound over the window.
     #[inline]
-    fn step(&self, gap: f64, n: Vec3, rho1: f64, rho2: f64) -> f64 {
+    fn step(&self, gap: f64, n: Vec3, s1: &PointSet, s2: &PointSet) -> f64 {
         let margin = gap - 0.5 * self.delta;
         if margin <= 0.0 {
             return 0.0;
         }
         let n_world = self.rot1 * n;
-        let mu = self.motion1.directional_bound(n_world, rho1)
-            + self.motion2.directional_bound(-n_world, rho2);
+        let (m1, m2) = (self.motion1, self.motion2);
+        let mu1 = m1
+            .directional_bound(n_world, s1.rho)
+            .min(m1.directional_bound_window(
+                n_world,
+                &self.rot1,
+                s1.center,
+                s1.radius,
+                self.window,
+            ));
+        let mu2 = m2
+            .directional_bound(-n_world, s2.rho)
+            .min(m2.directional_bound_window(
+                -n_world,
+                &self.rot2,
+                s2.center,
+                s2.radius,
+                self.window,
+            ));
+        let mu = mu1 + mu2;
         if mu <= 0.0 {
             f64::INFINITY
         } else {
@@ -100,11 +154,14 @@ impl<'a> StepSearch<'a> {
             &self.bvh1.nodes()[n1 as usize],
             &self.bvh2.nodes()[n2 as usize],
         );
-        let (rho1, rho2) = (axis_bound(a, self.motion1), axis_bound(b, self.motion2));
-        let mu_max = self.motion1.speed_bound(rho1) + self.motion2.speed_bound(rho2);
+        let (s1, s2) = (
+            PointSet::node(a, self.motion1),
+            PointSet::node(b, self.motion2),
+        );
+        let mu_max = self.motion1.speed_bound(s1.rho) + self.motion2.speed_bound(s2.rho);
         let cutoff = 0.5 * self.delta + mu_max * self.best / (1.0 + self.slack);
         let (gap, axis) = rss_separation(&a.rss, &b.rss, rel, cutoff);
-        self.step(gap, a.rss.axes * axis, rho1, rho2)
+        self.step(gap, a.rss.axes * axis, &s1, &s2)
     }
 
     /// Evaluates a triangle pair: `true` when it is within the tolerance.
@@ -117,14 +174,12 @@ impl<'a> StepSearch<'a> {
         if d.distance <= self.delta {
             return true;
         }
-        let rho1 = t1
-            .iter()
-            .fold(0.0_f64, |m, &p| m.max(self.motion1.axis_distance(p)));
-        let rho2 = body2
-            .iter()
-            .fold(0.0_f64, |m, &p| m.max(self.motion2.axis_distance(p)));
+        let (s1, s2) = (
+            PointSet::triangle(t1, self.motion1),
+            PointSet::triangle(&body2, self.motion2),
+        );
         let n = (d.point2 - d.point1) / d.distance;
-        let s = self.step(d.distance, n, rho1, rho2);
+        let s = self.step(d.distance, n, &s1, &s2);
         if s < self.best {
             self.best = s;
             self.best_pair = Some((leaf1, leaf2));
@@ -132,13 +187,21 @@ impl<'a> StepSearch<'a> {
         false
     }
 
-    /// One iteration at time `t`; `slack` trades step length for fewer visited pairs.
-    pub(crate) fn run(&mut self, t: f64, slack: f64, warm: Option<(u32, u32)>) -> StepOutcome {
+    /// One iteration at time `t`, with bounds valid over `[t, t + window]` (the step never
+    /// exceeds `window`); `slack` trades step length for fewer visited pairs.
+    pub(crate) fn run(
+        &mut self,
+        t: f64,
+        window: f64,
+        slack: f64,
+        warm: Option<(u32, u32)>,
+    ) -> StepOutcome {
         let (pose1, pose2): (Pose, Pose) = (self.motion1.pose_at(t), self.motion2.pose_at(t));
         let pos12 = pose1.inv_mul(&pose2);
-        (self.rot12, self.trans12, self.rot1) = (pos12.rotation, pos12.translation, pose1.rotation);
+        (self.rot12, self.trans12) = (pos12.rotation, pos12.translation);
+        (self.rot1, self.rot2, self.window) = (pose1.rotation, pose2.rotation, window);
         self.slack = slack;
-        self.best = (1.0 - t) * (1.0 + slack);
+        self.best = window * (1.0 + slack);
         self.best_pair = None;
         self.closest = f64::INFINITY;
         if let Some((l1, l2)) = warm {

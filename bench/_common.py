@@ -1,0 +1,73 @@
+"""Helpers shared by the comparison runners: poses, models, the machine line."""
+
+import os
+import platform
+import sys
+
+import numpy as np
+
+import tocsin
+
+
+def rotation(axis, angle):
+    """Rotation matrix of `angle` radians about `axis` (Rodrigues)."""
+    a = np.asarray(axis, float) / np.linalg.norm(axis)
+    k = np.array([[0, -a[2], a[1]], [a[2], 0, -a[0]], [-a[1], a[0], 0]])
+    return np.eye(3) + np.sin(angle) * k + (1 - np.cos(angle)) * k @ k
+
+
+def pose(rot, t):
+    """4x4 pose from a rotation matrix and a translation."""
+    p = np.eye(4)
+    p[:3, :3] = rot
+    p[:3, 3] = t
+    return p
+
+
+def models(names=None):
+    """The generated knots and, when pybullet_data is installed, its bunny and Panda links."""
+    out = {
+        "knot2.8k": lambda: tocsin.Mesh.torus_knot(175, 8),
+        "knot11k": lambda: tocsin.Mesh.torus_knot(344, 16),
+        "knot34k": lambda: tocsin.Mesh.torus_knot(680, 25),
+    }
+    try:
+        import pybullet_data
+
+        root = pybullet_data.getDataPath()
+        out["bunny"] = lambda: tocsin.Mesh.load(os.path.join(root, "bunny.obj"))
+        out["panda_link0"] = lambda: tocsin.Mesh.load(os.path.join(root, "franka_panda", "meshes", "collision", "link0.obj"))
+        out["panda_link1"] = lambda: tocsin.Mesh.load(os.path.join(root, "franka_panda", "meshes", "visual", "link1.obj"))
+    except ImportError:
+        print("pybullet_data not installed: real meshes skipped", file=sys.stderr)
+    return {k: f() for k, f in out.items() if names is None or k in names}
+
+
+def fcl_model(mesh):
+    """The mesh as a python-fcl BVHModel (OBBRSS, FCL's default for meshes)."""
+    import fcl
+
+    m = fcl.BVHModel()
+    m.beginModel(mesh.num_vertices, mesh.num_triangles)
+    m.addSubModel(mesh.vertices, mesh.triangles)
+    m.endModel()
+    return m
+
+
+def machine_line():
+    """CPU, cores and versions, for the tables."""
+    cpu = platform.processor() or platform.machine()
+    try:
+        with open("/proc/cpuinfo") as f:
+            cpu = next(line.split(":", 1)[1].strip() for line in f if line.startswith("model name"))
+    except (OSError, StopIteration):
+        pass
+    return f"Machine: {cpu}, {os.cpu_count()} cores, Python {platform.python_version()}, numpy {np.__version__}"
+
+
+def write(path, text):
+    """Prints `text` and writes it to `path`."""
+    print(text)
+    os.makedirs(os.path.dirname(path) or ".", exist_ok=True)
+    with open(path, "w") as f:
+        f.write(text + "\n")
