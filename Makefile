@@ -5,22 +5,30 @@
 PYTHON ?= python3
 VENV := .venv
 VPY := $(VENV)/bin/python
+VENV_NP1 := .venv-numpy1
 CARGO ?= cargo
 
-.PHONY: demo test venv develop lint rust-test py-test bench bench-python bench-parry clean
+.PHONY: demo test venv develop wheel lint rust-test py-test bench bench-python bench-parry clean
 
 demo:
 	$(CARGO) run --release -q -p tocsin --example demo
 
+# Build tools live in .venv; the wheel is tested in .venv (numpy 2.x) and in a fresh
+# .venv-numpy1 (numpy 1.26), installed with pip like a user would.
 $(VPY):
 	$(PYTHON) -m venv $(VENV)
 	$(VPY) -m pip install -q --upgrade pip
-	$(VPY) -m pip install -q "maturin>=1.5,<2" "numpy>=1.26" pytest
+	$(VPY) -m pip install -q "maturin>=1.5,<2" "numpy>=2" pytest mypy
 
 venv: $(VPY)
 
+# For development: an editable install into .venv.
 develop: venv
 	$(VENV)/bin/maturin develop --release -q
+
+wheel: venv
+	rm -rf target/wheels
+	$(VENV)/bin/maturin build --release -q -o target/wheels
 
 lint:
 	$(CARGO) fmt --all --check
@@ -29,8 +37,14 @@ lint:
 rust-test:
 	$(CARGO) test --workspace --release
 
-py-test: develop
+py-test: wheel
+	$(VPY) -m pip install -q --force-reinstall --no-deps target/wheels/*.whl
 	$(VPY) -m pytest -q crates/tocsin-py/tests
+	$(VPY) -m mypy.stubtest tocsin._core --allowlist crates/tocsin-py/stubtest-allowlist.txt
+	rm -rf $(VENV_NP1)
+	$(PYTHON) -m venv $(VENV_NP1)
+	$(VENV_NP1)/bin/python -m pip install -q "numpy>=1.26,<2" pytest target/wheels/*.whl
+	$(VENV_NP1)/bin/python -m pytest -q crates/tocsin-py/tests
 
 test: lint rust-test py-test
 
@@ -51,4 +65,4 @@ bench-parry:
 
 clean:
 	$(CARGO) clean
-	rm -rf $(VENV)
+	rm -rf $(VENV) $(VENV_NP1)

@@ -194,3 +194,14 @@ def test_non_contiguous_and_list_poses_match():
     assert tocsin.distance(box, np.eye(4), box, strided).distance == d
     assert tocsin.distance(box, np.eye(4), box, as_list).distance == d
     assert tocsin.distance(box, np.eye(4), box, p[:, :].T.T).distance == d
+
+
+def test_from_trimesh_duck_type():
+    class FakeTrimesh:
+        vertices = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0.0]])
+        faces = np.array([[0, 1, 2]])
+
+    m = tocsin.Mesh.from_trimesh(FakeTrimesh())
+    assert m.num_triangles == 1
+    with pytest.raises(tocsin.MeshError, match="no `vertices`"):
+        tocsin.Mesh.from_trimesh(object())

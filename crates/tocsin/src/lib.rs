@@ -23,11 +23,12 @@ pub use error::{MeshError, MotionError, OptionsError, PoseError};
 pub use math::{Mat3, Mat4, Pose, Vec3};
 pub use mesh::TriMesh;
 pub use motion::{Motion, MotionKind};
-pub use query::collide::{collide, collide_pairs};
+pub use query::collide::{collide, collide_batch, collide_pairs};
 pub use query::contact_time::{
-    time_of_contact, time_of_contact_with_cache, ContactCache, ContactOptions, ContactStatus,
-    ContactTime,
+    time_of_contact, time_of_contact_batch, time_of_contact_with_cache, ContactCache,
+    ContactOptions, ContactStatus, ContactTime,
 };
 pub use query::distance::{
-    distance, distance_with_cache, within_distance, DistanceCache, DistanceOptions, DistanceResult,
+    distance, distance_batch, distance_with_cache, within_distance, DistanceCache, DistanceOptions,
+    DistanceResult,
 };

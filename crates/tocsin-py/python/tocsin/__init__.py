@@ -22,10 +22,13 @@ from ._core import (
     time_of_contact,
     within_distance,
 )
+from ._batch import ContactBatch, DistanceBatch, collide_batch, distance_batch, time_of_contact_batch
 from ._errors import MeshError, MeshFileError, MotionError, OptionsError, PoseError, TocsinError
 
 __all__ = [
+    "ContactBatch",
     "ContactResult",
+    "DistanceBatch",
     "DistanceResult",
     "Mesh",
     "MeshError",
@@ -36,8 +39,11 @@ __all__ = [
     "PoseError",
     "TocsinError",
     "collide",
+    "collide_batch",
     "collide_pairs",
     "distance",
+    "distance_batch",
     "time_of_contact",
+    "time_of_contact_batch",
     "within_distance",
 ]

@@ -1,13 +1,28 @@
 """Type stubs of the compiled core. Units are the models'; points are in the world frame."""
 
 from os import PathLike
-from typing import Literal, Optional, Sequence, Union
+from typing import Literal, Optional, Sequence, Union, final
 
 import numpy as np
 import numpy.typing as npt
+from numpy.typing import ArrayLike
 
-ArrayLike = npt.ArrayLike
+__all__ = [
+    "ContactResult",
+    "DistanceResult",
+    "Mesh",
+    "Motion",
+    "_collide_batch",
+    "_distance_batch",
+    "_time_of_contact_batch",
+    "collide",
+    "collide_pairs",
+    "distance",
+    "time_of_contact",
+    "within_distance",
+]
 
+@final
 class Mesh:
     """A triangle mesh (polygon soup) with its bounding volume hierarchy; immutable.
 
@@ -15,9 +30,12 @@ class Mesh:
     and isolated vertices are accepted. The caller's arrays are copied, never modified.
     """
 
-    def __init__(self, vertices: ArrayLike, triangles: ArrayLike) -> None:
+    def __new__(cls, vertices: ArrayLike, triangles: ArrayLike) -> Mesh:
         """Builds a mesh from (N, 3) float vertex coordinates (body frame) and (M, 3) integer
         vertex indices. Raises MeshError on bad shapes, dtypes, indices or coordinates."""
+    @staticmethod
+    def from_trimesh(mesh: object) -> Mesh:
+        """A mesh from a trimesh.Trimesh (anything with .vertices (N, 3) and .faces (M, 3))."""
     @staticmethod
     def load(path: Union[str, PathLike[str]]) -> Mesh:
         """Loads an OBJ, STL (ASCII or binary) or PLY file; polygons are triangulated.
@@ -50,6 +68,7 @@ class Mesh:
     def triangles(self) -> npt.NDArray[np.int64]:
         """A copy of the (M, 3) triangle vertex indices."""
 
+@final
 class DistanceResult:
     """The closest pair of points between two meshes."""
 
@@ -96,6 +115,7 @@ def within_distance(
 ) -> bool:
     """Whether the distance is at most threshold (model units); stops early."""
 
+@final
 class Motion:
     """A rigid motion over t in [0, 1] between two 4x4 rigid poses (world frame)."""
 
@@ -121,6 +141,7 @@ class Motion:
     def kind(self) -> Literal["translation", "interp", "screw"]:
         """Which interpolation the motion follows."""
 
+@final
 class ContactResult:
     """When and where two moving meshes first come within the tolerance."""
 
@@ -164,3 +185,31 @@ def time_of_contact(
 ) -> Optional[ContactResult]:
     """First time of contact over t in [0, 1], or None when the meshes stay farther apart than
     tolerance (model units; default 1e-3 of the smaller bounding radius). The GIL is released."""
+
+def _distance_batch(
+    mesh1: Mesh, poses1: ArrayLike, mesh2: Mesh, poses2: ArrayLike, relative_error: float = 0.0, absolute_error: float = 0.0
+) -> tuple[
+    npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.int64], npt.NDArray[np.int64]
+]: ...
+def _collide_batch(mesh1: Mesh, poses1: ArrayLike, mesh2: Mesh, poses2: ArrayLike) -> npt.NDArray[np.bool_]: ...
+def _time_of_contact_batch(
+    mesh1: Mesh,
+    starts1: ArrayLike,
+    ends1: ArrayLike,
+    mesh2: Mesh,
+    starts2: ArrayLike,
+    ends2: ArrayLike,
+    kind: str,
+    tolerance: Optional[float] = None,
+    max_iterations: Optional[int] = None,
+) -> tuple[
+    npt.NDArray[np.float64],
+    npt.NDArray[np.float64],
+    npt.NDArray[np.float64],
+    npt.NDArray[np.float64],
+    npt.NDArray[np.float64],
+    npt.NDArray[np.int64],
+    npt.NDArray[np.int64],
+    npt.NDArray[np.int64],
+    npt.NDArray[np.int64],
+]: ...

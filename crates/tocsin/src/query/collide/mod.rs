@@ -20,6 +20,16 @@ pub fn collide(mesh1: &TriMesh, pose1: &Pose, mesh2: &TriMesh, pose2: &Pose) -> 
     found
 }
 
+/// [`collide`] for every `(pose1, pose2)` in `poses`, in parallel (rayon); results in input
+/// order, identical to the single queries.
+pub fn collide_batch(mesh1: &TriMesh, mesh2: &TriMesh, poses: &[(Pose, Pose)]) -> Vec<bool> {
+    use rayon::prelude::*;
+    poses
+        .par_iter()
+        .map(|(p1, p2)| collide(mesh1, p1, mesh2, p2))
+        .collect()
+}
+
 /// All intersecting (or touching) triangle pairs `[triangle of mesh 1, triangle of mesh 2]`,
 /// sorted.
 pub fn collide_pairs(

@@ -215,6 +215,21 @@ pub fn time_of_contact_with_cache(
     )))
 }
 
+/// [`time_of_contact`] for every `(motion1, motion2)` in `motions`, in parallel (rayon);
+/// results in input order, identical to the single queries whatever the thread count.
+pub fn time_of_contact_batch(
+    mesh1: &TriMesh,
+    mesh2: &TriMesh,
+    motions: &[(Motion, Motion)],
+    options: &ContactOptions,
+) -> Result<Vec<Option<ContactTime>>, OptionsError> {
+    use rayon::prelude::*;
+    motions
+        .par_iter()
+        .map(|(m1, m2)| time_of_contact(mesh1, m1, mesh2, m2, options))
+        .collect()
+}
+
 #[allow(clippy::too_many_arguments)]
 fn finish(
     mesh1: &TriMesh,

@@ -6,11 +6,13 @@
 //! bound cannot improve the best triangle pair found so far. An optional [`DistanceCache`]
 //! starts from the last closest triangle pair (motion coherence).
 
+mod batch;
 mod distance_point_triangle;
 mod distance_segment_segment;
 mod distance_triangle_triangle;
 pub(crate) mod traverse;
 
+pub use batch::distance_batch;
 pub use distance_point_triangle::{inside_triangle, project_inside_triangle, triangle_normal};
 pub use distance_segment_segment::closest_points_segment_segment;
 pub use distance_triangle_triangle::{

@@ -1,0 +1,91 @@
+"""Batch queries: many poses or motions for one mesh pair, in parallel on all cores with the
+GIL released. Results are identical to the single queries, in input order, whatever the
+thread count. Poses are (K, 4, 4) arrays of rigid transforms (world frame); a single (4, 4)
+pose for the second body is used for every query."""
+
+from typing import NamedTuple, Optional
+
+import numpy as np
+import numpy.typing as npt
+
+from . import _core
+from ._core import Mesh
+
+_STATUS = np.array(["none", "converged", "started_in_contact", "iteration_limit"])
+
+
+class DistanceBatch(NamedTuple):
+    """Distances of K pose pairs (model units, world frame)."""
+
+    distance: npt.NDArray[np.float64]
+    """(K,) minimum distances, >= 0."""
+    point1: npt.NDArray[np.float64]
+    """(K, 3) closest points on mesh 1, world frame."""
+    point2: npt.NDArray[np.float64]
+    """(K, 3) closest points on mesh 2, world frame."""
+    triangle1: npt.NDArray[np.int64]
+    """(K,) triangles of mesh 1 holding point1."""
+    triangle2: npt.NDArray[np.int64]
+    """(K,) triangles of mesh 2 holding point2."""
+
+
+class ContactBatch(NamedTuple):
+    """Times of contact of K motions; NaN (or -1, or 'none') where there is no contact."""
+
+    time: npt.NDArray[np.float64]
+    """(K,) time of contact in [0, 1], NaN when none."""
+    point1: npt.NDArray[np.float64]
+    """(K, 3) closest points on mesh 1 at `time`, world frame (NaN rows when none)."""
+    point2: npt.NDArray[np.float64]
+    """(K, 3) closest points on mesh 2 at `time`, world frame (NaN rows when none)."""
+    normal: npt.NDArray[np.float64]
+    """(K, 3) unit normals from body 1 to body 2, world frame (NaN rows when none)."""
+    distance: npt.NDArray[np.float64]
+    """(K,) distance at `time`, model units (NaN when none)."""
+    triangle1: npt.NDArray[np.int64]
+    """(K,) triangle of mesh 1 holding point1 (-1 when none)."""
+    triangle2: npt.NDArray[np.int64]
+    """(K,) triangle of mesh 2 holding point2 (-1 when none)."""
+    iterations: npt.NDArray[np.int64]
+    """(K,) advancement iterations (0 when none)."""
+    status: npt.NDArray[np.str_]
+    """(K,) 'none', 'converged', 'started_in_contact' or 'iteration_limit'."""
+
+
+def distance_batch(
+    mesh1: Mesh,
+    poses1: npt.ArrayLike,
+    mesh2: Mesh,
+    poses2: npt.ArrayLike,
+    relative_error: float = 0.0,
+    absolute_error: float = 0.0,
+) -> DistanceBatch:
+    """tocsin.distance for each pose pair: poses1 (K, 4, 4), poses2 (K, 4, 4) or (4, 4)."""
+    return DistanceBatch(*_core._distance_batch(mesh1, poses1, mesh2, poses2, relative_error, absolute_error))
+
+
+def collide_batch(mesh1: Mesh, poses1: npt.ArrayLike, mesh2: Mesh, poses2: npt.ArrayLike) -> npt.NDArray[np.bool_]:
+    """tocsin.collide for each pose pair: a (K,) boolean array."""
+    return _core._collide_batch(mesh1, poses1, mesh2, poses2)
+
+
+def time_of_contact_batch(
+    mesh1: Mesh,
+    starts1: npt.ArrayLike,
+    ends1: npt.ArrayLike,
+    mesh2: Mesh,
+    starts2: Optional[npt.ArrayLike] = None,
+    ends2: Optional[npt.ArrayLike] = None,
+    kind: str = "interp",
+    tolerance: Optional[float] = None,
+    max_iterations: Optional[int] = None,
+) -> ContactBatch:
+    """tocsin.time_of_contact for K motions of body 1 from starts1[k] to ends1[k] (and of body 2
+    from starts2[k] to ends2[k]; body 2 stays at the identity when they are omitted). `kind` is
+    'translation', 'interp' (about the body origin) or 'screw', for both bodies."""
+    starts2 = np.eye(4) if starts2 is None else starts2
+    ends2 = starts2 if ends2 is None else ends2
+    t, p1, p2, n, d, t1, t2, it, st = _core._time_of_contact_batch(
+        mesh1, starts1, ends1, mesh2, starts2, ends2, kind, tolerance, max_iterations
+    )
+    return ContactBatch(t, p1, p2, n, d, t1, t2, it, _STATUS[st])

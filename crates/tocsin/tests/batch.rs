@@ -1,0 +1,81 @@
+//! Batch queries: identical to the single queries, in input order, whatever the thread count.
+
+#![allow(clippy::unwrap_used, clippy::panic)]
+
+mod common;
+use common::*;
+use tocsin::{
+    collide, collide_batch, distance, distance_batch, mesh, time_of_contact, time_of_contact_batch,
+    ContactOptions, DistanceOptions, Motion, Pose, Vec3,
+};
+
+fn with_threads<T: Send>(n: usize, f: impl FnOnce() -> T + Send) -> T {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(n)
+        .build()
+        .unwrap()
+        .install(f)
+}
+
+#[test]
+fn batches_equal_single_queries_on_any_thread_count() {
+    let mut rng = rng(60);
+    let knot = mesh::torus_knot(80, 8).unwrap();
+    let poses: Vec<(Pose, Pose)> = (0..40)
+        .map(|_| (random_pose(&mut rng, 3.0), random_pose(&mut rng, 3.0)))
+        .collect();
+    let opts = DistanceOptions::default();
+    let single: Vec<_> = poses
+        .iter()
+        .map(|(a, b)| distance(&knot, a, &knot, b, &opts).unwrap())
+        .collect();
+    let hits: Vec<_> = poses
+        .iter()
+        .map(|(a, b)| collide(&knot, a, &knot, b))
+        .collect();
+    assert!(hits.iter().any(|&h| h) && hits.iter().any(|&h| !h));
+    let motions: Vec<(Motion, Motion)> = poses
+        .iter()
+        .map(|(a, b)| {
+            let far = Pose {
+                rotation: a.rotation,
+                translation: a.translation + Vec3::new(12.0, 0.0, 0.0),
+            };
+            (Motion::screw(far, *a).unwrap(), Motion::stationary(*b))
+        })
+        .collect();
+    let copts = ContactOptions::default();
+    let toc: Vec<_> = motions
+        .iter()
+        .map(|(m1, m2)| time_of_contact(&knot, m1, &knot, m2, &copts).unwrap())
+        .collect();
+    for threads in [1, 2, 4] {
+        assert_eq!(
+            with_threads(threads, || distance_batch(&knot, &knot, &poses, &opts)
+                .unwrap()),
+            single
+        );
+        assert_eq!(
+            with_threads(threads, || collide_batch(&knot, &knot, &poses)),
+            hits
+        );
+        assert_eq!(
+            with_threads(threads, || time_of_contact_batch(
+                &knot, &knot, &motions, &copts
+            )
+            .unwrap()),
+            toc
+        );
+    }
+    assert!(distance_batch(
+        &knot,
+        &knot,
+        &poses,
+        &DistanceOptions {
+            relative_error: -1.0,
+            absolute_error: 0.0
+        }
+    )
+    .is_err());
+    assert!(distance_batch(&knot, &knot, &[], &opts).unwrap().is_empty());
+}
