@@ -32,3 +32,8 @@ pub use query::distance::{
     distance, distance_batch, distance_with_cache, within_distance, DistanceCache, DistanceOptions,
     DistanceResult,
 };
+
+/// The README's Rust quickstart, compiled and run as a doctest.
+#[doc = include_str!("../../../README.md")]
+#[cfg(doctest)]
+pub struct ReadmeDoctests;
