@@ -12,13 +12,16 @@ CARGO ?= cargo
 
 demo:
 	$(CARGO) run --release -q -p tocsin --example demo
+	$(CARGO) run --release -q -p tocsin-cli -- render-contact builtin:knot34k builtin:knot34k \
+		--motion1 "screw:-14,1,0.5:14,-0.5,0,0,0.3,1.2" --out target/demo-contact.png > /dev/null
+	@echo "picture of the first contact (screw motion, knot34k): target/demo-contact.png"
 
 # Build tools live in .venv; the wheel is tested in .venv (numpy 2.x) and in a fresh
 # .venv-numpy1 (numpy 1.26), installed with pip like a user would.
 $(VPY):
 	$(PYTHON) -m venv $(VENV)
 	$(VPY) -m pip install -q --upgrade pip
-	$(VPY) -m pip install -q "maturin>=1.5,<2" "numpy>=2" pytest mypy
+	$(VPY) -m pip install -q "maturin>=1.5,<2" "numpy>=2" pytest mypy matplotlib
 
 venv: $(VPY)
 

@@ -5,14 +5,19 @@
 //! Poses are 3 numbers (a translation), 6 (translation then rotation vector in radians) or 16
 //! (a 4x4 matrix, row-major), comma-separated. Motions are `KIND:START:END` with KIND one of
 //! `translation`, `interp`, `screw` and START, END poses (`interp` takes an optional fourth
-//! field, the centre `x,y,z` in the body frame). Errors print one line and exit with status 2.
+//! field, the centre `x,y,z` in the body frame). `tocsin run scene.json` (or `.toml`) runs a
+//! scene file (see `scene.rs`). Errors print one line and exit with status 2.
+
+mod render;
+mod scene;
+mod spec;
 
 use clap::{Parser, Subcommand};
 use serde_json::json;
 use std::process::ExitCode;
 use tocsin::{
-    collide, collide_pairs, distance, mesh, time_of_contact, within_distance, ContactOptions,
-    ContactStatus, DistanceOptions, Mat4, Motion, Pose, TriMesh, Vec3,
+    collide, collide_pairs, distance, time_of_contact, within_distance, ContactOptions,
+    DistanceOptions, Motion, Pose,
 };
 
 #[derive(Parser)]
@@ -81,6 +86,34 @@ enum Command {
         #[arg(long, default_value_t = 1000)]
         max_iterations: usize,
     },
+    /// Like contact-time, and writes a PNG of the two meshes at the time of contact (at t = 1
+    /// when there is none) with the witness points and the normal marked.
+    RenderContact {
+        /// First mesh: a path or builtin:NAME.
+        mesh1: String,
+        /// Second mesh: a path or builtin:NAME.
+        mesh2: String,
+        /// Motion of mesh 1, KIND:START:END[:CENTER] (default: stays at the identity).
+        #[arg(long, allow_hyphen_values = true)]
+        motion1: Option<String>,
+        /// Motion of mesh 2, same form (default: stays at the identity).
+        #[arg(long, allow_hyphen_values = true)]
+        motion2: Option<String>,
+        /// Distance tolerance (model units; default 1e-3 of the smaller bounding radius).
+        #[arg(long)]
+        tolerance: Option<f64>,
+        /// Where to write the PNG.
+        #[arg(long, default_value = "contact.png")]
+        out: String,
+        /// Image width and height in pixels.
+        #[arg(long, num_args = 2, default_values_t = [800, 600])]
+        size: Vec<usize>,
+    },
+    /// Runs the queries of a scene file (.json or .toml) and prints their results as JSON.
+    Run {
+        /// The scene file.
+        scene: String,
+    },
     /// Whether the distance is at most THRESHOLD (model units).
     Within {
         #[command(flatten)]
@@ -90,102 +123,26 @@ enum Command {
     },
 }
 
-fn load_mesh(spec: &str) -> Result<TriMesh, String> {
-    let built = match spec.strip_prefix("builtin:") {
-        None => return TriMesh::load(spec).map_err(|e| e.to_string()),
-        Some("knot2.8k") => mesh::torus_knot(175, 8),
-        Some("knot11k") => mesh::torus_knot(344, 16),
-        Some("knot34k") => mesh::torus_knot(680, 25),
-        Some("sphere") => mesh::sphere(1.0, 32, 64),
-        Some("box") => mesh::box_mesh(Vec3::splat(0.5)),
-        Some("plate") => mesh::plate(2.0, 8),
-        Some(other) => {
-            return Err(format!(
-                "unknown built-in model `{other}` (knot2.8k, knot11k, knot34k, sphere, box, plate)"
-            ))
-        }
-    };
-    built.map_err(|e| e.to_string())
+fn pose_arg(text: Option<&str>, which: &str) -> Result<Pose, String> {
+    let what = format!("--{which}");
+    text.map_or(Ok(Pose::IDENTITY), |t| {
+        spec::pose_from_values(&spec::numbers(t, &what)?, &what)
+    })
 }
 
-fn parse_pose(text: Option<&str>, which: &str) -> Result<Pose, String> {
-    let Some(text) = text else {
-        return Ok(Pose::IDENTITY);
-    };
-    let values: Vec<f64> = text
-        .split(',')
-        .map(|s| {
-            s.trim()
-                .parse::<f64>()
-                .map_err(|_| format!("--{which}: `{s}` is not a number"))
-        })
-        .collect::<Result<_, _>>()?;
-    let pose = match values.len() {
-        3 => Pose::new(tocsin::Mat3::IDENTITY, Vec3::from_slice(&values)),
-        6 => {
-            let rv = Vec3::from_slice(&values[3..]);
-            let rotation = if rv.length() > 0.0 {
-                tocsin::Mat3::from_axis_angle(rv.normalize(), rv.length())
-            } else {
-                tocsin::Mat3::IDENTITY
-            };
-            Pose::new(rotation, Vec3::from_slice(&values[..3]))
-        }
-        16 => Pose::from_matrix(
-            &Mat4::from_cols_slice(&values).transpose(),
-            tocsin::math::ROTATION_TOLERANCE,
-        ),
-        n => return Err(format!("--{which}: expected 3, 6 or 16 numbers, got {n}")),
-    };
-    pose.map_err(|e| format!("--{which}: {e}"))
-}
-
-fn parse_motion(text: Option<&str>, which: &str) -> Result<Motion, String> {
-    let Some(text) = text else {
-        return Ok(Motion::stationary(Pose::IDENTITY));
-    };
-    let parts: Vec<&str> = text.split(':').collect();
-    if parts.len() < 3 || parts.len() > 4 {
-        return Err(format!(
-            "--{which}: expected KIND:START:END[:CENTER], got `{text}`"
-        ));
-    }
-    let (start, end) = (
-        parse_pose(Some(parts[1]), which)?,
-        parse_pose(Some(parts[2]), which)?,
-    );
-    let motion = match (parts[0], parts.get(3)) {
-        ("translation", None) => Motion::translation(start, end),
-        ("screw", None) => Motion::screw(start, end),
-        ("interp", centre) => {
-            let c = match centre {
-                None => Vec3::ZERO,
-                Some(c) => {
-                    let v: Vec<f64> = c.split(',').map(|x| x.trim().parse::<f64>()).collect::<Result<_, _>>().map_err(|_| format!("--{which}: bad centre `{c}`"))?;
-                    if v.len() != 3 {
-                        return Err(format!("--{which}: the centre needs 3 numbers"));
-                    }
-                    Vec3::from_slice(&v)
-                }
-            };
-            Motion::interp(start, end, c)
-        }
-        (kind, _) => return Err(format!("--{which}: unknown motion `{kind}` (translation, interp, screw; only interp takes a centre)")),
-    };
-    motion.map_err(|e| format!("--{which}: {e}"))
-}
-
-fn vec(v: Vec3) -> serde_json::Value {
-    json!([v.x, v.y, v.z])
+fn motion_arg(text: Option<&str>, which: &str) -> Result<Motion, String> {
+    text.map_or(Ok(Motion::stationary(Pose::IDENTITY)), |t| {
+        spec::parse_motion(t, &format!("--{which}"))
+    })
 }
 
 fn run(cli: Cli) -> Result<serde_json::Value, String> {
     let setup = |p: &PairArgs| -> Result<_, String> {
         Ok((
-            load_mesh(&p.mesh1)?,
-            parse_pose(p.pose1.as_deref(), "pose1")?,
-            load_mesh(&p.mesh2)?,
-            parse_pose(p.pose2.as_deref(), "pose2")?,
+            spec::load_mesh(&p.mesh1)?,
+            pose_arg(p.pose1.as_deref(), "pose1")?,
+            spec::load_mesh(&p.mesh2)?,
+            pose_arg(p.pose2.as_deref(), "pose2")?,
         ))
     };
     match cli.command {
@@ -201,11 +158,9 @@ fn run(cli: Cli) -> Result<serde_json::Value, String> {
             };
             let start = std::time::Instant::now();
             let r = distance(&m1, &p1, &m2, &p2, &opts).map_err(|e| e.to_string())?;
-            Ok(json!({
-                "distance": r.distance, "point1": vec(r.point1), "point2": vec(r.point2),
-                "triangle1": r.triangle1, "triangle2": r.triangle2,
-                "seconds": start.elapsed().as_secs_f64(),
-            }))
+            let mut out = spec::distance_json(&r);
+            out["seconds"] = json!(start.elapsed().as_secs_f64());
+            Ok(out)
         }
         Command::Collide { pair, pairs } => {
             let (m1, p1, m2, p2) = setup(&pair)?;
@@ -224,10 +179,10 @@ fn run(cli: Cli) -> Result<serde_json::Value, String> {
             tolerance,
             max_iterations,
         } => {
-            let (m1, m2) = (load_mesh(&mesh1)?, load_mesh(&mesh2)?);
+            let (m1, m2) = (spec::load_mesh(&mesh1)?, spec::load_mesh(&mesh2)?);
             let (mo1, mo2) = (
-                parse_motion(motion1.as_deref(), "motion1")?,
-                parse_motion(motion2.as_deref(), "motion2")?,
+                motion_arg(motion1.as_deref(), "motion1")?,
+                motion_arg(motion2.as_deref(), "motion2")?,
             );
             let opts = ContactOptions {
                 tolerance,
@@ -236,17 +191,58 @@ fn run(cli: Cli) -> Result<serde_json::Value, String> {
             let start = std::time::Instant::now();
             let r = time_of_contact(&m1, &mo1, &m2, &mo2, &opts).map_err(|e| e.to_string())?;
             let seconds = start.elapsed().as_secs_f64();
-            Ok(match r {
-                None => json!({ "contact": false, "seconds": seconds }),
-                Some(c) => json!({
-                    "contact": true, "time": c.time, "point1": vec(c.point1), "point2": vec(c.point2),
-                    "normal": vec(c.normal), "distance": c.distance, "triangle1": c.triangle1,
-                    "triangle2": c.triangle2, "iterations": c.iterations,
-                    "status": match c.status { ContactStatus::Converged => "converged", ContactStatus::StartedInContact => "started_in_contact", _ => "iteration_limit" },
-                    "seconds": seconds,
-                }),
-            })
+            let mut out = spec::contact_json(&r);
+            out["seconds"] = json!(seconds);
+            Ok(out)
         }
+        Command::RenderContact {
+            mesh1,
+            mesh2,
+            motion1,
+            motion2,
+            tolerance,
+            out,
+            size,
+        } => {
+            let (m1, m2) = (spec::load_mesh(&mesh1)?, spec::load_mesh(&mesh2)?);
+            let (mo1, mo2) = (
+                motion_arg(motion1.as_deref(), "motion1")?,
+                motion_arg(motion2.as_deref(), "motion2")?,
+            );
+            let opts = ContactOptions {
+                tolerance,
+                ..Default::default()
+            };
+            let r = time_of_contact(&m1, &mo1, &m2, &mo2, &opts).map_err(|e| e.to_string())?;
+            let t = r.map_or(1.0, |c| c.time);
+            let (p1, p2) = (mo1.pose_at(t), mo2.pose_at(t));
+            let marks = match &r {
+                Some(c) => render::Marks {
+                    point1: c.point1,
+                    point2: c.point2,
+                    normal: c.normal,
+                },
+                None => {
+                    let d = distance(&m1, &p1, &m2, &p2, &DistanceOptions::default())
+                        .map_err(|e| e.to_string())?;
+                    let normal = (d.point2 - d.point1)
+                        .try_normalize()
+                        .unwrap_or(tocsin::Vec3::Z);
+                    render::Marks {
+                        point1: d.point1,
+                        point2: d.point2,
+                        normal,
+                    }
+                }
+            };
+            let (w, h) = (size[0].clamp(16, 8192), size[1].clamp(16, 8192));
+            render::render(&out, (&m1, &p1), (&m2, &p2), &marks, (w, h))?;
+            let mut json_out = spec::contact_json(&r);
+            json_out["image"] = json!(out);
+            json_out["rendered_at"] = json!(t);
+            Ok(json_out)
+        }
+        Command::Run { scene } => scene::run(&scene),
         Command::Within { pair, threshold } => {
             let (m1, p1, m2, p2) = setup(&pair)?;
             let w = within_distance(&m1, &p1, &m2, &p2, threshold).map_err(|e| e.to_string())?;

@@ -23,6 +23,7 @@ from ._core import (
     within_distance,
 )
 from ._batch import ContactBatch, DistanceBatch, collide_batch, distance_batch, time_of_contact_batch
+from ._plot import plot_contact
 from ._errors import MeshError, MeshFileError, MotionError, OptionsError, PoseError, TocsinError
 
 __all__ = [
@@ -43,6 +44,7 @@ __all__ = [
     "collide_pairs",
     "distance",
     "distance_batch",
+    "plot_contact",
     "time_of_contact",
     "time_of_contact_batch",
     "within_distance",

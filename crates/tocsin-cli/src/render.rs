@@ -1,0 +1,134 @@
+//! A picture of two meshes at a contact: orthographic view across the contact normal (body 1
+//! below, body 2 above), flat-shaded triangles with a depth buffer, the witness points as
+//! discs and the normal as a short line; written as PNG. Software rendering, no GPU needed.
+
+use tocsin::{Pose, TriMesh, Vec3};
+
+/// What to mark on the picture: the witness points and the unit normal (world frame).
+pub struct Marks {
+    /// Closest point on body 1.
+    pub point1: Vec3,
+    /// Closest point on body 2.
+    pub point2: Vec3,
+    /// Unit normal from body 1 to body 2.
+    pub normal: Vec3,
+}
+
+struct Canvas {
+    w: usize,
+    h: usize,
+    rgb: Vec<u8>,
+    depth: Vec<f64>,
+}
+
+impl Canvas {
+    fn put(&mut self, x: i64, y: i64, z: f64, c: [u8; 3]) {
+        if x < 0 || y < 0 || x >= self.w as i64 || y >= self.h as i64 {
+            return;
+        }
+        let i = y as usize * self.w + x as usize;
+        if z >= self.depth[i] {
+            self.depth[i] = z;
+            self.rgb[3 * i..3 * i + 3].copy_from_slice(&c);
+        }
+    }
+}
+
+/// Renders `mesh1` at `pose1` and `mesh2` at `pose2` to a `width x height` PNG at `path`.
+pub fn render(
+    path: &str,
+    (mesh1, pose1): (&TriMesh, &Pose),
+    (mesh2, pose2): (&TriMesh, &Pose),
+    marks: &Marks,
+    (width, height): (usize, usize),
+) -> Result<(), String> {
+    // Image axes: y along the normal, x across it; we look along x cross y.
+    let up = marks.normal.try_normalize().unwrap_or(Vec3::Z);
+    let right = up.any_orthonormal_vector();
+    let toward = right.cross(up); // points at the viewer
+    let world = |m: &TriMesh, p: &Pose| {
+        m.vertices()
+            .iter()
+            .map(|v| p.transform_point(*v))
+            .collect::<Vec<_>>()
+    };
+    let (v1, v2) = (world(mesh1, pose1), world(mesh2, pose2));
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    for v in v1.iter().chain(&v2) {
+        let q = [v.dot(right), v.dot(up)];
+        for k in 0..2 {
+            lo[k] = lo[k].min(q[k]);
+            hi[k] = hi[k].max(q[k]);
+        }
+    }
+    let span = (hi[0] - lo[0]).max(hi[1] - lo[1]).max(1e-300);
+    let scale = 0.9 * (width.min(height) as f64) / span;
+    let (cx, cy) = (0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]));
+    let project = |v: Vec3| {
+        let x = (v.dot(right) - cx) * scale + 0.5 * width as f64;
+        let y = 0.5 * height as f64 - (v.dot(up) - cy) * scale;
+        (x, y, v.dot(toward))
+    };
+    let mut canvas = Canvas {
+        w: width,
+        h: height,
+        rgb: vec![255; 3 * width * height],
+        depth: vec![f64::NEG_INFINITY; width * height],
+    };
+    for (verts, mesh, base) in [
+        (&v1, mesh1, [70.0, 120.0, 200.0]),
+        (&v2, mesh2, [230.0, 140.0, 50.0]),
+    ] {
+        for t in mesh.triangles() {
+            let [a, b, c] = t.map(|i| verts[i as usize]);
+            let shade = 0.35 + 0.65 * (b - a).cross(c - a).normalize_or_zero().dot(toward).abs();
+            let color = base.map(|ch| (ch * shade).min(255.0) as u8);
+            let [pa, pb, pc] = [project(a), project(b), project(c)];
+            let area = (pb.0 - pa.0) * (pc.1 - pa.1) - (pc.0 - pa.0) * (pb.1 - pa.1);
+            if area.abs() < 1e-12 {
+                continue;
+            }
+            let x0 = pa.0.min(pb.0).min(pc.0).floor().max(0.0) as i64;
+            let x1 = pa.0.max(pb.0).max(pc.0).ceil().min(width as f64 - 1.0) as i64;
+            let y0 = pa.1.min(pb.1).min(pc.1).floor().max(0.0) as i64;
+            let y1 = pa.1.max(pb.1).max(pc.1).ceil().min(height as f64 - 1.0) as i64;
+            for y in y0..=y1 {
+                for x in x0..=x1 {
+                    let (px, py) = (x as f64 + 0.5, y as f64 + 0.5);
+                    let w0 = ((pb.0 - px) * (pc.1 - py) - (pc.0 - px) * (pb.1 - py)) / area;
+                    let w1 = ((pc.0 - px) * (pa.1 - py) - (pa.0 - px) * (pc.1 - py)) / area;
+                    let w2 = 1.0 - w0 - w1;
+                    if w0 >= 0.0 && w1 >= 0.0 && w2 >= 0.0 {
+                        canvas.put(x, y, w0 * pa.2 + w1 * pb.2 + w2 * pc.2, color);
+                    }
+                }
+            }
+        }
+    }
+    // Marks on top of everything: the normal as a line from point 1, the witnesses as discs.
+    let (p1, p2) = (project(marks.point1), project(marks.point2));
+    let len = 0.15 * height as f64;
+    for k in 0..=(len as i64) {
+        let (x, y) = (p1.0, p1.1 - k as f64);
+        for dx in -1..=1 {
+            canvas.put(x as i64 + dx, y as i64, f64::INFINITY, [200, 0, 0]);
+        }
+    }
+    for (p, c) in [(p1, [0, 0, 0]), (p2, [200, 0, 0])] {
+        for dy in -5i64..=5 {
+            for dx in -5i64..=5 {
+                if dx * dx + dy * dy <= 25 {
+                    canvas.put(p.0 as i64 + dx, p.1 as i64 + dy, f64::INFINITY, c);
+                }
+            }
+        }
+    }
+    let file = std::fs::File::create(path).map_err(|e| format!("cannot write {path}: {e}"))?;
+    let mut enc = png::Encoder::new(std::io::BufWriter::new(file), width as u32, height as u32);
+    enc.set_color(png::ColorType::Rgb);
+    enc.set_depth(png::BitDepth::Eight);
+    let mut writer = enc.write_header().map_err(|e| format!("{path}: {e}"))?;
+    writer
+        .write_image_data(&canvas.rgb)
+        .map_err(|e| format!("{path}: {e}"))
+}

@@ -1,0 +1,210 @@
+//! Scene files (`tocsin run scene.json` or `scene.toml`): named meshes (a path or a built-in),
+//! then queries on them, each with poses or motions; the results come out as JSON, in order.
+//!
+//! ```json
+//! { "meshes": { "a": "builtin:knot34k", "b": "parts/b.stl" },
+//!   "queries": [
+//!     { "query": "distance", "mesh1": "a", "mesh2": "b", "pose2": [7, 0.2, 0.1] },
+//!     { "query": "collide", "mesh1": "a", "mesh2": "b", "pose2": [0.5, 0, 0, 0, 0, 0.3] },
+//!     { "query": "within", "mesh1": "a", "mesh2": "b", "pose2": [9, 0, 0], "threshold": 0.5 },
+//!     { "query": "contact_time", "mesh1": "a", "mesh2": "b",
+//!       "motion1": { "kind": "screw", "start": [-14, 1, 0.5], "end": [14, 0, 0, 0, 0, 1.2] },
+//!       "tolerance": 0.001 } ] }
+//! ```
+//! Poses are 3, 6 or 16 numbers as on the command line; a missing pose is the identity and a
+//! missing motion keeps the body at the identity.
+
+use crate::spec::{contact_json, distance_json, load_mesh, motion_from, pose_from_values};
+use serde::Deserialize;
+use serde_json::{json, Value};
+use std::collections::BTreeMap;
+use std::io::IsTerminal;
+use tocsin::{
+    collide, distance, time_of_contact, within_distance, ContactOptions, DistanceOptions, Motion,
+    Pose, TriMesh, Vec3,
+};
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Scene {
+    meshes: BTreeMap<String, String>,
+    queries: Vec<Query>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct MotionSpec {
+    kind: String,
+    start: Vec<f64>,
+    end: Vec<f64>,
+    center: Option<[f64; 3]>,
+}
+
+#[derive(Deserialize)]
+#[serde(tag = "query", rename_all = "snake_case", deny_unknown_fields)]
+enum Query {
+    Distance {
+        mesh1: String,
+        mesh2: String,
+        pose1: Option<Vec<f64>>,
+        pose2: Option<Vec<f64>>,
+        #[serde(default)]
+        relative_error: f64,
+        #[serde(default)]
+        absolute_error: f64,
+    },
+    Collide {
+        mesh1: String,
+        mesh2: String,
+        pose1: Option<Vec<f64>>,
+        pose2: Option<Vec<f64>>,
+    },
+    Within {
+        mesh1: String,
+        mesh2: String,
+        pose1: Option<Vec<f64>>,
+        pose2: Option<Vec<f64>>,
+        threshold: f64,
+    },
+    ContactTime {
+        mesh1: String,
+        mesh2: String,
+        motion1: Option<MotionSpec>,
+        motion2: Option<MotionSpec>,
+        tolerance: Option<f64>,
+        max_iterations: Option<usize>,
+    },
+}
+
+fn pose(values: &Option<Vec<f64>>, what: &str) -> Result<Pose, String> {
+    values
+        .as_deref()
+        .map_or(Ok(Pose::IDENTITY), |v| pose_from_values(v, what))
+}
+
+fn motion(spec: &Option<MotionSpec>, what: &str) -> Result<Motion, String> {
+    let Some(m) = spec else {
+        return Ok(Motion::stationary(Pose::IDENTITY));
+    };
+    let (start, end) = (
+        pose_from_values(&m.start, what)?,
+        pose_from_values(&m.end, what)?,
+    );
+    motion_from(&m.kind, start, end, m.center.map(Vec3::from_array), what)
+}
+
+/// Reads and runs a scene file; returns `{"results": [...]}` in the order of the queries.
+pub fn run(path: &str) -> Result<Value, String> {
+    let text = std::fs::read_to_string(path).map_err(|e| format!("cannot read {path}: {e}"))?;
+    let scene: Scene = if path.ends_with(".toml") {
+        toml::from_str(&text).map_err(|e| {
+            format!(
+                "{path}: {}",
+                e.to_string().lines().collect::<Vec<_>>().join(" ")
+            )
+        })?
+    } else {
+        serde_json::from_str(&text).map_err(|e| format!("{path}: {e}"))?
+    };
+    let meshes: BTreeMap<&str, TriMesh> = scene
+        .meshes
+        .iter()
+        .map(|(name, spec)| {
+            Ok((
+                name.as_str(),
+                load_mesh(spec).map_err(|e| format!("mesh `{name}`: {e}"))?,
+            ))
+        })
+        .collect::<Result<_, String>>()?;
+    let get = |name: &str, i: usize| {
+        meshes
+            .get(name)
+            .ok_or_else(|| format!("query {i}: no mesh named `{name}`"))
+    };
+    let progress = (std::io::stderr().is_terminal() && scene.queries.len() > 1)
+        .then(|| indicatif::ProgressBar::new(scene.queries.len() as u64));
+    let mut results = Vec::with_capacity(scene.queries.len());
+    for (i, q) in scene.queries.iter().enumerate() {
+        let at = |what: &str| format!("query {i} {what}");
+        let result = match q {
+            Query::Distance {
+                mesh1,
+                mesh2,
+                pose1,
+                pose2,
+                relative_error,
+                absolute_error,
+            } => {
+                let opts = DistanceOptions {
+                    relative_error: *relative_error,
+                    absolute_error: *absolute_error,
+                };
+                let r = distance(
+                    get(mesh1, i)?,
+                    &pose(pose1, &at("pose1"))?,
+                    get(mesh2, i)?,
+                    &pose(pose2, &at("pose2"))?,
+                    &opts,
+                )
+                .map_err(|e| format!("query {i}: {e}"))?;
+                distance_json(&r)
+            }
+            Query::Collide {
+                mesh1,
+                mesh2,
+                pose1,
+                pose2,
+            } => {
+                json!({ "collide": collide(get(mesh1, i)?, &pose(pose1, &at("pose1"))?, get(mesh2, i)?, &pose(pose2, &at("pose2"))?) })
+            }
+            Query::Within {
+                mesh1,
+                mesh2,
+                pose1,
+                pose2,
+                threshold,
+            } => {
+                let w = within_distance(
+                    get(mesh1, i)?,
+                    &pose(pose1, &at("pose1"))?,
+                    get(mesh2, i)?,
+                    &pose(pose2, &at("pose2"))?,
+                    *threshold,
+                )
+                .map_err(|e| format!("query {i}: {e}"))?;
+                json!({ "within": w })
+            }
+            Query::ContactTime {
+                mesh1,
+                mesh2,
+                motion1,
+                motion2,
+                tolerance,
+                max_iterations,
+            } => {
+                let opts = ContactOptions {
+                    tolerance: *tolerance,
+                    max_iterations: max_iterations
+                        .unwrap_or(ContactOptions::default().max_iterations),
+                };
+                let r = time_of_contact(
+                    get(mesh1, i)?,
+                    &motion(motion1, &at("motion1"))?,
+                    get(mesh2, i)?,
+                    &motion(motion2, &at("motion2"))?,
+                    &opts,
+                )
+                .map_err(|e| format!("query {i}: {e}"))?;
+                contact_json(&r)
+            }
+        };
+        results.push(result);
+        if let Some(p) = &progress {
+            p.inc(1);
+        }
+    }
+    if let Some(p) = progress {
+        p.finish_and_clear();
+    }
+    Ok(json!({ "results": results }))
+}
