@@ -16,12 +16,12 @@ demo:
 		--motion1 "screw:-14,1,0.5:14,-0.5,0,0,0.3,1.2" --out target/demo-contact.png > /dev/null
 	@echo "picture of the first contact (screw motion, knot34k): target/demo-contact.png"
 
-# Build tools live in .venv; the wheel is tested in .venv (numpy 2.x) and in a fresh
-# .venv-numpy1 (numpy 1.26), installed with pip like a user would.
+# Build tools live in .venv; the wheel is tested in .venv (numpy 2.x), and a fresh .venv-numpy1
+# (numpy 1.26) installs the package with `pip install .` from the clone, as a user would.
 $(VPY):
 	$(PYTHON) -m venv $(VENV)
 	$(VPY) -m pip install -q --upgrade pip
-	$(VPY) -m pip install -q "maturin>=1.5,<2" "numpy>=2" pytest mypy matplotlib
+	$(VPY) -m pip install -q "maturin>=1.5,<2" "numpy>=2" pytest mypy matplotlib trimesh
 
 venv: $(VPY)
 
@@ -46,7 +46,9 @@ py-test: wheel
 	$(VPY) -m mypy.stubtest tocsin._core --allowlist crates/tocsin-py/stubtest-allowlist.txt
 	rm -rf $(VENV_NP1)
 	$(PYTHON) -m venv $(VENV_NP1)
-	$(VENV_NP1)/bin/python -m pip install -q "numpy>=1.26,<2" pytest target/wheels/*.whl
+	$(VENV_NP1)/bin/python -m pip install -q "numpy>=1.26,<2" pytest
+	$(VENV_NP1)/bin/python -m pip install -q .
+	$(VENV_NP1)/bin/python -c "import numpy, tocsin; assert numpy.__version__.startswith('1.'), numpy.__version__"
 	$(VENV_NP1)/bin/python -m pytest -q crates/tocsin-py/tests
 
 test: lint rust-test py-test

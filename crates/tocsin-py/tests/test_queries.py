@@ -205,3 +205,13 @@ def test_from_trimesh_duck_type():
     assert m.num_triangles == 1
     with pytest.raises(tocsin.MeshError, match="no `vertices`"):
         tocsin.Mesh.from_trimesh(object())
+
+
+def test_from_real_trimesh():
+    trimesh = pytest.importorskip("trimesh")
+    box = trimesh.creation.box(extents=[1.0, 1.0, 1.0])
+    m = tocsin.Mesh.from_trimesh(box)
+    assert m.num_triangles == len(box.faces)
+    p = np.eye(4)
+    p[0, 3] = 3.0
+    assert tocsin.distance(m, np.eye(4), m, p).distance == pytest.approx(2.0)
