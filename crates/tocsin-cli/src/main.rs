@@ -17,7 +17,7 @@ use serde_json::json;
 use std::process::ExitCode;
 use tocsin::{
     collide, collide_pairs, distance, time_of_contact, within_distance, ContactOptions,
-    DistanceOptions, Motion, Pose,
+    ContactTime, DistanceOptions, Motion, Pose, TriMesh,
 };
 
 #[derive(Parser)]
@@ -46,6 +46,41 @@ struct PairArgs {
     pose2: Option<String>,
 }
 
+#[derive(clap::Args)]
+struct MotionArgs {
+    /// First mesh: a path (.obj, .stl, .ply) or builtin:NAME.
+    mesh1: String,
+    /// Second mesh: a path or builtin:NAME.
+    mesh2: String,
+    /// Motion of mesh 1, KIND:START:END[:CENTER] (default: stays at the identity).
+    #[arg(long, allow_hyphen_values = true)]
+    motion1: Option<String>,
+    /// Motion of mesh 2, same form (default: stays at the identity).
+    #[arg(long, allow_hyphen_values = true)]
+    motion2: Option<String>,
+    /// Distance tolerance (model units; default 1e-3 of the smaller bounding radius).
+    #[arg(long)]
+    tolerance: Option<f64>,
+    /// Iteration cap.
+    #[arg(long, default_value_t = 1000)]
+    max_iterations: usize,
+}
+
+impl MotionArgs {
+    /// Loads the meshes, parses the motions and runs the time-of-contact query.
+    fn run(&self) -> Result<(TriMesh, Motion, TriMesh, Motion, Option<ContactTime>), String> {
+        let (m1, m2) = (spec::load_mesh(&self.mesh1)?, spec::load_mesh(&self.mesh2)?);
+        let mo1 = motion_arg(self.motion1.as_deref(), "motion1")?;
+        let mo2 = motion_arg(self.motion2.as_deref(), "motion2")?;
+        let opts = ContactOptions {
+            tolerance: self.tolerance,
+            max_iterations: self.max_iterations,
+        };
+        let r = time_of_contact(&m1, &mo1, &m2, &mo2, &opts).map_err(|e| e.to_string())?;
+        Ok((m1, mo1, m2, mo2, r))
+    }
+}
+
 #[derive(Subcommand)]
 enum Command {
     /// Minimum distance with witness points (world frame) and triangle indices.
@@ -69,39 +104,14 @@ enum Command {
     },
     /// First time of contact of two moving meshes over t in [0, 1].
     ContactTime {
-        /// First mesh: a path or builtin:NAME.
-        mesh1: String,
-        /// Second mesh: a path or builtin:NAME.
-        mesh2: String,
-        /// Motion of mesh 1, KIND:START:END[:CENTER] (default: stays at the identity).
-        #[arg(long, allow_hyphen_values = true)]
-        motion1: Option<String>,
-        /// Motion of mesh 2, same form (default: stays at the identity).
-        #[arg(long, allow_hyphen_values = true)]
-        motion2: Option<String>,
-        /// Distance tolerance (model units; default 1e-3 of the smaller bounding radius).
-        #[arg(long)]
-        tolerance: Option<f64>,
-        /// Iteration cap.
-        #[arg(long, default_value_t = 1000)]
-        max_iterations: usize,
+        #[command(flatten)]
+        motions: MotionArgs,
     },
     /// Like contact-time, and writes a PNG of the two meshes at the time of contact (at t = 1
     /// when there is none) with the witness points and the normal marked.
     RenderContact {
-        /// First mesh: a path or builtin:NAME.
-        mesh1: String,
-        /// Second mesh: a path or builtin:NAME.
-        mesh2: String,
-        /// Motion of mesh 1, KIND:START:END[:CENTER] (default: stays at the identity).
-        #[arg(long, allow_hyphen_values = true)]
-        motion1: Option<String>,
-        /// Motion of mesh 2, same form (default: stays at the identity).
-        #[arg(long, allow_hyphen_values = true)]
-        motion2: Option<String>,
-        /// Distance tolerance (model units; default 1e-3 of the smaller bounding radius).
-        #[arg(long)]
-        tolerance: Option<f64>,
+        #[command(flatten)]
+        motions: MotionArgs,
         /// Where to write the PNG.
         #[arg(long, default_value = "contact.png")]
         out: String,
@@ -171,49 +181,15 @@ fn run(cli: Cli) -> Result<serde_json::Value, String> {
                 Ok(json!({ "collide": collide(&m1, &p1, &m2, &p2) }))
             }
         }
-        Command::ContactTime {
-            mesh1,
-            mesh2,
-            motion1,
-            motion2,
-            tolerance,
-            max_iterations,
-        } => {
-            let (m1, m2) = (spec::load_mesh(&mesh1)?, spec::load_mesh(&mesh2)?);
-            let (mo1, mo2) = (
-                motion_arg(motion1.as_deref(), "motion1")?,
-                motion_arg(motion2.as_deref(), "motion2")?,
-            );
-            let opts = ContactOptions {
-                tolerance,
-                max_iterations,
-            };
+        Command::ContactTime { motions } => {
             let start = std::time::Instant::now();
-            let r = time_of_contact(&m1, &mo1, &m2, &mo2, &opts).map_err(|e| e.to_string())?;
-            let seconds = start.elapsed().as_secs_f64();
+            let (.., r) = motions.run()?;
             let mut out = spec::contact_json(&r);
-            out["seconds"] = json!(seconds);
+            out["seconds"] = json!(start.elapsed().as_secs_f64());
             Ok(out)
         }
-        Command::RenderContact {
-            mesh1,
-            mesh2,
-            motion1,
-            motion2,
-            tolerance,
-            out,
-            size,
-        } => {
-            let (m1, m2) = (spec::load_mesh(&mesh1)?, spec::load_mesh(&mesh2)?);
-            let (mo1, mo2) = (
-                motion_arg(motion1.as_deref(), "motion1")?,
-                motion_arg(motion2.as_deref(), "motion2")?,
-            );
-            let opts = ContactOptions {
-                tolerance,
-                ..Default::default()
-            };
-            let r = time_of_contact(&m1, &mo1, &m2, &mo2, &opts).map_err(|e| e.to_string())?;
+        Command::RenderContact { motions, out, size } => {
+            let (m1, mo1, m2, mo2, r) = motions.run()?;
             let t = r.map_or(1.0, |c| c.time);
             let (p1, p2) = (mo1.pose_at(t), mo2.pose_at(t));
             let marks = match &r {

@@ -4,6 +4,9 @@
 
 #![allow(clippy::unwrap_used, clippy::panic)]
 
+mod common;
+use common::unit;
+
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::time::Instant;
@@ -11,19 +14,6 @@ use tocsin::{
     collide_batch, distance_batch, mesh, time_of_contact_batch, ContactOptions, DistanceOptions,
     Mat3, Motion, Pose, Vec3,
 };
-
-fn unit(rng: &mut ChaCha8Rng) -> Vec3 {
-    loop {
-        let v = Vec3::new(
-            rng.random_range(-1.0..1.0),
-            rng.random_range(-1.0..1.0),
-            rng.random_range(-1.0..1.0),
-        );
-        if v.length() > 0.2 && v.length() <= 1.0 {
-            return v.normalize();
-        }
-    }
-}
 
 fn best_of<T>(n: usize, mut f: impl FnMut() -> T) -> f64 {
     (0..n)

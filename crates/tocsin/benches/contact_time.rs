@@ -13,6 +13,9 @@
 
 #![allow(clippy::unwrap_used, clippy::panic)]
 
+mod common;
+use common::unit;
+
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::time::Instant;
@@ -57,19 +60,6 @@ fn models() -> Vec<(String, TriMesh)> {
         out.retain(|(name, _)| keep.contains(&name.as_str()));
     }
     out
-}
-
-fn unit(rng: &mut ChaCha8Rng) -> Vec3 {
-    loop {
-        let v = Vec3::new(
-            rng.random_range(-1.0..1.0),
-            rng.random_range(-1.0..1.0),
-            rng.random_range(-1.0..1.0),
-        );
-        if v.length() > 0.2 && v.length() <= 1.0 {
-            return v.normalize();
-        }
-    }
 }
 
 /// Body 1's motion of the given kind from `start` to `end`, rotating by `angle` about `axis`.
