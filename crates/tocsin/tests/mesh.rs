@@ -154,3 +154,19 @@ fn generators_have_the_standard_sizes() {
     assert_eq!(mesh::plate(1.0, 3).unwrap().num_triangles(), 18);
     assert!(mesh::sphere(1.0, 8, 16).unwrap().num_triangles() > 100);
 }
+
+#[test]
+fn huge_generator_sizes_are_errors_not_panics() {
+    assert!(matches!(
+        mesh::torus_knot(1 << 20, 1 << 20),
+        Err(MeshError::TooLarge { .. })
+    ));
+    assert!(matches!(
+        mesh::sphere(1.0, usize::MAX, 3),
+        Err(MeshError::TooLarge { .. })
+    ));
+    assert!(matches!(
+        mesh::plate(1.0, 1 << 40),
+        Err(MeshError::TooLarge { .. })
+    ));
+}

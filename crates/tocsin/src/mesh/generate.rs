@@ -8,6 +8,18 @@ use crate::error::MeshError;
 use crate::math::Vec3;
 use std::f64::consts::TAU;
 
+/// Refuses sizes whose triangle count (`2 a b`) would not fit the mesh's 32-bit indices, before
+/// anything is allocated.
+fn check_size(a: usize, b: usize) -> Result<(), MeshError> {
+    match a.checked_mul(b).and_then(|n| n.checked_mul(2)) {
+        Some(n) if n <= super::MAX_ELEMENTS => Ok(()),
+        n => Err(MeshError::TooLarge {
+            what: "triangles",
+            count: n.unwrap_or(usize::MAX),
+        }),
+    }
+}
+
 fn build(vertices: Vec<Vec3>, triangles: Vec<[u32; 3]>) -> Result<TriMesh, MeshError> {
     // Indices are in range by construction; sizes or coordinates from bad parameters (a NaN
     // radius, billions of segments) are reported by the ordinary validation.
@@ -34,6 +46,7 @@ fn grid_triangles(n_u: usize, n_v: usize, wrap_v: bool) -> Vec<[u32; 3]> {
 /// `n_u` and `n_v` are raised to at least 3.
 pub fn torus_knot(n_u: usize, n_v: usize) -> Result<TriMesh, MeshError> {
     let (n_u, n_v) = (n_u.max(3), n_v.max(3));
+    check_size(n_u, n_v)?;
     let (p, q, tube) = (2.0, 3.0, 0.4);
     let curve = |phi: f64| {
         let r = (q * phi).cos() + 2.0;
@@ -60,6 +73,7 @@ pub fn torus_knot(n_u: usize, n_v: usize) -> Result<TriMesh, MeshError> {
 /// meridians (raised to at least 2 and 3).
 pub fn sphere(radius: f64, n_lat: usize, n_lon: usize) -> Result<TriMesh, MeshError> {
     let (n_lat, n_lon) = (n_lat.max(2), n_lon.max(3));
+    check_size(n_lat, n_lon)?;
     let mut vertices = vec![Vec3::new(0.0, 0.0, radius), Vec3::new(0.0, 0.0, -radius)];
     for i in 1..n_lat {
         let polar = std::f64::consts::PI * i as f64 / n_lat as f64;
@@ -122,6 +136,7 @@ pub fn box_mesh(half_extents: Vec3) -> Result<TriMesh, MeshError> {
 /// (`2 n^2` triangles, zero thickness): the case where sampling poses tunnels.
 pub fn plate(size: f64, n: usize) -> Result<TriMesh, MeshError> {
     let n = n.max(1);
+    check_size(n, n)?;
     let mut vertices = Vec::with_capacity((n + 1) * (n + 1));
     for i in 0..=n {
         for j in 0..=n {
