@@ -45,9 +45,15 @@ impl TriMesh {
         validate_count("vertices", vertices.len())?;
         let verts: Vec<Vec3> = vertices.iter().map(|v| Vec3::from_array(*v)).collect();
         validate(&verts, triangles.iter().copied())?;
-        // Every index is now known to be in 0..len <= i32::MAX, so the casts are lossless.
-        let tris = triangles.iter().map(|t| t.map(|i| i as u32)).collect();
-        Self::new(verts, tris)
+        // Every index is now known to be in 0..len <= i32::MAX, so the casts are lossless, and
+        // the data is valid: build directly rather than validate again in `new`.
+        let triangles: Vec<[u32; 3]> = triangles.iter().map(|t| t.map(|i| i as u32)).collect();
+        let bvh = Bvh::build(&verts, &triangles);
+        Ok(Self {
+            vertices: verts,
+            triangles,
+            bvh,
+        })
     }
 
     /// Loads a mesh from an OBJ, STL (ASCII or binary) or PLY file, chosen by extension.
