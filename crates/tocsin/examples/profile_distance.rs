@@ -1,30 +1,58 @@
-//! Repeats one distance query (knot34k, 10% separation) for profiling.
+//! Distance on knot34k at random poses (8 per separation of 1%, 10% and 100% of the bounding
+//! radius, as in `bench/compare_fcl.py`), for profiling: prints the mean of the per-pose best
+//! times per separation. Usage: `profile_distance [repeats per pose]`.
 use tocsin::{distance, mesh, DistanceOptions, Pose, Vec3};
+
 fn main() {
     let Ok(m) = mesh::torus_knot(680, 25) else {
         return;
     };
-    let rot = Pose::from_axis_angle(Vec3::new(0.2, 0.5, 1.0), 0.7, Vec3::ZERO);
-    let dir = Vec3::new(1.0, 0.3, 0.1).normalize();
-    let n: usize = std::env::args()
+    let repeats: u32 = std::env::args()
         .nth(1)
         .and_then(|a| a.parse().ok())
-        .unwrap_or(2000);
-    let mut acc = 0.0;
-    let t = std::time::Instant::now();
-    for (k, s) in [6.039773, 6.404069, 9.660091]
-        .into_iter()
-        .cycle()
-        .take(n)
-        .enumerate()
-    {
-        let p2 = Pose {
-            rotation: rot.rotation,
-            translation: dir * (s + 1e-9 * k as f64),
-        };
-        if let Ok(d) = distance(&m, &Pose::IDENTITY, &m, &p2, &DistanceOptions::default()) {
-            acc += d.distance;
+        .unwrap_or(10);
+    let mut seed = 2026u64;
+    let mut next = move || {
+        seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (seed >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let mut unit = || loop {
+        let v = Vec3::new(next(), next(), next()) * 2.0 - Vec3::ONE;
+        if (1e-3..=1.0).contains(&v.length_squared()) {
+            break v.normalize();
         }
+    };
+    let opts = DistanceOptions::default();
+    let dist = |p: &Pose| distance(&m, &Pose::IDENTITY, &m, p, &opts).map_or(0.0, |d| d.distance);
+    let radius = m.bounding_radius();
+    for frac in [0.01, 0.1, 1.0] {
+        let mut total = 0.0;
+        for _ in 0..8 {
+            let (axis, angle, dir) = (unit(), 0.3 + 2.8 * unit().x.abs(), unit());
+            let at = |s: f64| Pose::from_axis_angle(axis, angle, dir * s);
+            // Offset along `dir` at which the distance is frac * radius (bisection).
+            let (mut lo, mut hi) = (0.0, 7.0 * radius);
+            for _ in 0..60 {
+                let mid = 0.5 * (lo + hi);
+                if dist(&at(mid)) < frac * radius {
+                    lo = mid;
+                } else {
+                    hi = mid;
+                }
+            }
+            let pose = at(hi);
+            let mut best = f64::INFINITY;
+            for _ in 0..5 {
+                let t = std::time::Instant::now();
+                for _ in 0..repeats {
+                    std::hint::black_box(dist(&pose));
+                }
+                best = best.min(t.elapsed().as_secs_f64() / f64::from(repeats));
+            }
+            total += best;
+        }
+        println!("separation {frac} R: mean {:.1} us", total / 8.0 * 1e6);
     }
-    println!("{acc} {:?} per query", t.elapsed() / n as u32);
 }

@@ -8,9 +8,11 @@
 mod build;
 mod eigen;
 mod rss;
+mod rss4;
 
 pub use rss::Rss;
 pub(crate) use rss::{rss_separation, ASide, BSide, RelativeRss};
+pub(crate) use rss4::Lanes4;
 
 use crate::math::Vec3;
 

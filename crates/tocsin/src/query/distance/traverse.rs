@@ -5,12 +5,21 @@
 //! best triangle pair found is within the requested error of the true minimum, plus
 //! `2 slack = 2e-13` of the scene's scale: pairs tied with the best (parallel faces of CAD
 //! models) are not all visited.
+//!
+//! Order: best-first (smallest bound first, a binary heap) until the first triangle pair has
+//! been evaluated or [`HEAP_CAP`] pairs wait, which finds a close upper bound early; then
+//! depth-first, nearest first, from what is left, which keeps node accesses local and the
+//! queue cheap. Measured on knot34k at random poses, the best-first start halves the node
+//! pairs of a plain depth-first search (8% above the best-first optimum). Two internal nodes
+//! are split together, so each expansion bounds four child pairs in one 4-lane evaluation
+//! ([`crate::bvh::Lanes4`]).
 
 use super::distance_triangle_triangle::distance_triangle_triangle;
 use super::{DistanceOptions, DistanceResult};
-use crate::bvh::{rss_separation, ASide, BSide, Bvh, RelativeRss};
+use crate::bvh::{rss_separation, Bvh, Lanes4, RelativeRss};
 use crate::math::{Mat3, Pose, Vec3};
 use crate::mesh::TriMesh;
+use std::collections::BinaryHeap;
 
 /// When a search may stop before the minimum is proven.
 #[derive(Clone, Copy, Debug)]
@@ -31,6 +40,10 @@ pub(crate) struct Best {
     pub leaf2: u32,
 }
 
+/// Largest best-first queue before the search turns depth-first (measured: 256 visits 20% more
+/// pairs on knot34k, unbounded costs more in queue operations than it saves).
+const HEAP_CAP: usize = 1024;
+
 pub(crate) struct DistanceSearch<'a> {
     bvh1: &'a Bvh,
     bvh2: &'a Bvh,
@@ -43,6 +56,38 @@ pub(crate) struct DistanceSearch<'a> {
     slack: f64,
     best: Best,
     stack: Vec<(u32, u32, f64)>,
+    heap: BinaryHeap<Pending>,
+    /// [`HEAP_CAP`], other values in tests.
+    heap_cap: usize,
+    lanes: Lanes4,
+}
+
+/// A node pair waiting in the best-first queue; the smallest bound is the greatest.
+#[derive(Clone, Copy, Debug)]
+struct Pending {
+    lb: f64,
+    n1: u32,
+    n2: u32,
+}
+
+impl PartialEq for Pending {
+    fn eq(&self, other: &Self) -> bool {
+        self.cmp(other).is_eq()
+    }
+}
+
+impl Eq for Pending {}
+
+impl PartialOrd for Pending {
+    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+impl Ord for Pending {
+    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
+        other.lb.total_cmp(&self.lb)
+    }
 }
 
 impl<'a> DistanceSearch<'a> {
@@ -75,6 +120,9 @@ impl<'a> DistanceSearch<'a> {
                 leaf2: 0,
             },
             stack: Vec::with_capacity(64),
+            heap: BinaryHeap::with_capacity(64),
+            heap_cap: HEAP_CAP,
+            lanes: Lanes4::detect(),
         }
     }
 
@@ -141,6 +189,7 @@ impl<'a> DistanceSearch<'a> {
             }
         }
         self.stack.clear();
+        self.heap.clear();
         let (root1, root2) = (&self.bvh1.nodes()[0].rss, &self.bvh2.nodes()[0].rss);
         let lb = self.bound(
             0,
@@ -148,48 +197,127 @@ impl<'a> DistanceSearch<'a> {
             &RelativeRss::new(root1, root2, &self.rot12, self.trans12),
             f64::INFINITY,
         );
-        self.stack.push((0, 0, lb));
-        let (nodes1, nodes2) = (self.bvh1.nodes(), self.bvh2.nodes());
+        self.heap.push(Pending { lb, n1: 0, n2: 0 });
+        while let Some(p) = self.heap.pop() {
+            if p.lb >= self.cutoff() {
+                // Everything left in the queue is bounded at least as high.
+                self.heap.clear();
+                return;
+            }
+            if self.expand(p.n1, p.n2, true) || self.heap.len() >= self.heap_cap {
+                break;
+            }
+        }
+        // The rest depth-first, nearest on top.
+        let mut rest = std::mem::take(&mut self.heap).into_vec();
+        rest.sort_unstable_by(|x, y| y.lb.total_cmp(&x.lb));
+        self.stack.extend(rest.iter().map(|p| (p.n1, p.n2, p.lb)));
+        rest.clear();
+        self.heap = BinaryHeap::from(rest);
         while let Some((n1, n2, lb)) = self.stack.pop() {
-            let cutoff = self.cutoff();
-            if lb >= cutoff {
-                continue;
+            if lb < self.cutoff() {
+                self.expand(n1, n2, false);
             }
-            let (a, b) = (&nodes1[n1 as usize], &nodes2[n2 as usize]);
-            if a.is_leaf() && b.is_leaf() {
+        }
+    }
+
+    /// Evaluates the pair `(n1, n2)`: the triangle pair of two leaves (returns true), or the
+    /// bounds of its child pairs, queued (on the heap or the stack) where they may improve the
+    /// best. Two internal nodes are split together: four child pairs, one 4-lane bound.
+    fn expand(&mut self, n1: u32, n2: u32, to_heap: bool) -> bool {
+        let (nodes1, nodes2) = (self.bvh1.nodes(), self.bvh2.nodes());
+        let (a, b) = (&nodes1[n1 as usize], &nodes2[n2 as usize]);
+        // With one internal node, lanes 2 and 3 repeat 0 and 1 and are ignored.
+        let (kids, n): ([(u32, u32); 4], usize) = match (a.is_leaf(), b.is_leaf()) {
+            (true, true) => {
                 self.leaf_pair(a.leaf_position(), b.leaf_position());
-                continue;
+                return true;
             }
-            // Split the larger volume (or the one that is not a leaf).
-            let split_first = !a.is_leaf() && (b.is_leaf() || a.rss.size() >= b.rss.size());
-            // The side that stays is transformed once for both children.
-            let (p, q, lp, lq);
-            if split_first {
-                let (c1, c2) = a.children(n1);
-                let side = BSide::new(&b.rss, &self.rot12, self.trans12);
-                let rel = |c: u32| RelativeRss::from_b_side(&nodes1[c as usize].rss, &side);
-                (p, q) = ((c1, n2), (c2, n2));
-                lp = self.bound(c1, n2, &rel(c1), cutoff);
-                lq = self.bound(c2, n2, &rel(c2), cutoff);
-            } else {
-                let (c1, c2) = b.children(n2);
-                let side = ASide::new(&a.rss, &self.rot12, self.trans12);
-                let rel = |c: u32| RelativeRss::from_a_side(&side, &nodes2[c as usize].rss);
-                (p, q) = ((n1, c1), (n1, c2));
-                lp = self.bound(n1, c1, &rel(c1), cutoff);
-                lq = self.bound(n1, c2, &rel(c2), cutoff);
+            (false, false) => {
+                let ((a1, a2), (b1, b2)) = (a.children(n1), b.children(n2));
+                ([(a1, b1), (a1, b2), (a2, b1), (a2, b2)], 4)
             }
-            // Push the farther first so that the nearer is visited first.
-            let (near, far) = if lp <= lq {
-                ((p, lp), (q, lq))
-            } else {
-                ((q, lq), (p, lp))
-            };
-            if far.1 < cutoff {
-                self.stack.push((far.0 .0, far.0 .1, far.1));
+            (false, true) => {
+                let (a1, a2) = a.children(n1);
+                ([(a1, n2), (a2, n2), (a1, n2), (a2, n2)], 2)
             }
-            if near.1 < cutoff {
-                self.stack.push((near.0 .0, near.0 .1, near.1));
+            (true, false) => {
+                let (b1, b2) = b.children(n2);
+                ([(n1, b1), (n1, b2), (n1, b1), (n1, b2)], 2)
+            }
+        };
+        let bounds = self.lanes.bounds(
+            kids.map(|k| &nodes1[k.0 as usize].rss),
+            kids.map(|k| &nodes2[k.1 as usize].rss),
+            &self.rot12,
+            self.trans12,
+        );
+        let cutoff = self.cutoff();
+        let mut queued = [(0u32, 0u32, 0.0f64); 4];
+        let mut m = 0;
+        for k in 0..n {
+            let lb = bounds[k] - self.slack;
+            if lb < cutoff {
+                queued[m] = (kids[k].0, kids[k].1, lb);
+                m += 1;
+            }
+        }
+        let queued = &mut queued[..m];
+        if to_heap {
+            let pending = queued.iter().map(|&(n1, n2, lb)| Pending { lb, n1, n2 });
+            self.heap.extend(pending);
+        } else {
+            // Farthest first, so that the nearest is on top (insertion sort of at most four).
+            for i in 1..queued.len() {
+                let mut j = i;
+                while j > 0 && queued[j - 1].2 < queued[j].2 {
+                    queued.swap(j - 1, j);
+                    j -= 1;
+                }
+            }
+            self.stack.extend_from_slice(queued);
+        }
+        false
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh;
+
+    /// Every switch point from best-first to depth-first (after 1 or 4 queued pairs, at the
+    /// first triangle pair) gives the brute-force minimum over all triangle pairs.
+    #[test]
+    fn every_switch_point_finds_the_minimum() {
+        let knot = mesh::torus_knot(60, 8).unwrap_or_else(|e| unreachable!("{e}"));
+        let tris = knot.bvh().leaf_triangles();
+        for k in 0..6 {
+            let axis = Vec3::new(0.3, 1.0, 0.2 * k as f64);
+            let offset = Vec3::new(1.0, 0.4, 0.1 * k as f64) * (2.0 + 1.5 * k as f64);
+            let pose = Pose::from_axis_angle(axis, 0.4 + k as f64, offset);
+            let moved: Vec<[Vec3; 3]> = tris
+                .iter()
+                .map(|t| t.map(|p| pose.transform_point(p)))
+                .collect();
+            let brute = tris
+                .iter()
+                .flat_map(|a| {
+                    moved
+                        .iter()
+                        .map(|b| distance_triangle_triangle(a, b).distance)
+                })
+                .fold(f64::INFINITY, f64::min);
+            for cap in [1, 4, HEAP_CAP] {
+                let opts = DistanceOptions::default();
+                let mut search = DistanceSearch::new(&knot, &knot, &pose, &opts, Stop::Never);
+                search.heap_cap = cap;
+                search.run(None);
+                let d = search.best().distance;
+                assert!(
+                    (d - brute).abs() <= 1e-12 * (1.0 + brute),
+                    "cap {cap}: {d} vs {brute}"
+                );
             }
         }
     }
