@@ -66,59 +66,65 @@ fn bounds_lanes(a: [&Rss; 4], b: [&Rss; 4], rot12: &Mat3, trans12: Vec3) -> L {
 /// half lengths and radius per lane.
 #[derive(Clone, Copy, Debug)]
 struct Side4 {
-    /// `axes[c][i][k]`: component `i` of axis `c` of lane `k`.
-    axes: [[L; 3]; 3],
-    center: [L; 3],
-    half: [L; 2],
-    radius: L,
+    /// `axes[c][i]`: component `i` of axis `c`.
+    axes: [[V; 3]; 3],
+    center: [V; 3],
+    half: [V; 2],
+    radius: V,
+}
+
+/// One scalar of each of the four volumes, as lanes (built in registers).
+#[inline(always)]
+fn gather(v: &[&Rss; 4], f: impl Fn(&Rss) -> f64) -> V {
+    V([f(v[0]), f(v[1]), f(v[2]), f(v[3])])
 }
 
 impl Side4 {
     /// Four volumes of mesh 1, in mesh 1's frame.
     #[inline(always)]
     fn mesh1(v: [&Rss; 4]) -> Self {
-        let mut s = Self {
-            axes: [[[0.0; 4]; 3]; 3],
-            center: [[0.0; 4]; 3],
-            half: [[0.0; 4]; 2],
-            radius: [0.0; 4],
+        let axis = |c: usize| {
+            [
+                gather(&v, |r| r.axes.col(c).x),
+                gather(&v, |r| r.axes.col(c).y),
+                gather(&v, |r| r.axes.col(c).z),
+            ]
         };
-        for (k, rss) in v.iter().enumerate() {
-            let m = rss.axes.to_cols_array_2d();
-            for c in 0..3 {
-                for i in 0..3 {
-                    s.axes[c][i][k] = m[c][i];
-                }
-                s.center[c][k] = rss.center[c];
-            }
-            s.half[0][k] = rss.half_lengths[0];
-            s.half[1][k] = rss.half_lengths[1];
-            s.radius[k] = rss.radius;
+        Self {
+            axes: [axis(0), axis(1), axis(2)],
+            center: [
+                gather(&v, |r| r.center.x),
+                gather(&v, |r| r.center.y),
+                gather(&v, |r| r.center.z),
+            ],
+            half: [
+                gather(&v, |r| r.half_lengths[0]),
+                gather(&v, |r| r.half_lengths[1]),
+            ],
+            radius: gather(&v, |r| r.radius),
         }
-        s
     }
 
     /// Four volumes of mesh 2, carried into mesh 1's frame by `rot12`, `trans12`.
     #[inline(always)]
     fn mesh2(v: [&Rss; 4], rot12: &Mat3, trans12: Vec3) -> Self {
         let raw = Self::mesh1(v);
-        let r = rot12.to_cols_array_2d(); // r[col][row]
-        let t = [trans12.x, trans12.y, trans12.z];
-        let mut s = raw;
-        for i in 0..3 {
-            for k in 0..4 {
-                for c in 0..3 {
-                    s.axes[c][i][k] = r[0][i] * raw.axes[c][0][k]
-                        + r[1][i] * raw.axes[c][1][k]
-                        + r[2][i] * raw.axes[c][2][k];
-                }
-                s.center[i][k] = r[0][i] * raw.center[0][k]
-                    + r[1][i] * raw.center[1][k]
-                    + r[2][i] * raw.center[2][k]
-                    + t[i];
-            }
+        let m = rot12.to_cols_array_2d(); // m[col][row]
+        let rotate = |x: &[V; 3], i: usize| {
+            V::splat(m[0][i]) * x[0] + V::splat(m[1][i]) * x[1] + V::splat(m[2][i]) * x[2]
+        };
+        let turn = |x: &[V; 3]| [rotate(x, 0), rotate(x, 1), rotate(x, 2)];
+        let c = turn(&raw.center);
+        Self {
+            axes: [turn(&raw.axes[0]), turn(&raw.axes[1]), turn(&raw.axes[2])],
+            center: [
+                c[0] + V::splat(trans12.x),
+                c[1] + V::splat(trans12.y),
+                c[2] + V::splat(trans12.z),
+            ],
+            half: raw.half,
+            radius: raw.radius,
         }
-        s
     }
 }
 
@@ -176,41 +182,72 @@ impl V {
         }
         V(out)
     }
-    /// `self` where `keep` is positive in both `c1` and `c2`, else `NEG_INFINITY`.
-    #[inline(always)]
-    fn where_positive(self, c1: V, c2: V) -> V {
-        let mut out = [0.0; 4];
-        for k in 0..4 {
-            out[k] = if c1.0[k] > 0.0 && c2.0[k] > 0.0 {
-                self.0[k]
-            } else {
-                f64::NEG_INFINITY
-            };
-        }
-        V(out)
-    }
     #[inline(always)]
     fn splat(x: f64) -> V {
         V([x; 4])
     }
 }
 
-/// The gap along the cross product of two edges, normalised; `NEG_INFINITY` when the gap is
-/// not positive or the edges are nearly parallel (`1 - rij^2 <= 1e-12`).
+/// A candidate gap `sqrt(n / d)` kept as a fraction, so that only the largest of the seven
+/// normalised candidates (six edge cross products and the centre line) costs a square root and
+/// a division.
+#[derive(Clone, Copy, Debug)]
+struct Frac {
+    n: V,
+    d: V,
+}
+
+impl Frac {
+    /// The gap `g / sqrt(d)` where `g > 0`, `d > min_d` and `g * g` is finite; else 0, which is
+    /// harmless in the maximum because the bound is clamped at 0 after subtracting the radii.
+    #[inline(always)]
+    fn new(g: V, d: V, min_d: f64) -> Frac {
+        let (n, mut out_n, mut out_d) = (g * g, [0.0; 4], [1.0; 4]);
+        for k in 0..4 {
+            if g.0[k] > 0.0 && d.0[k] > min_d && n.0[k] < f64::INFINITY {
+                out_n[k] = n.0[k];
+                out_d[k] = d.0[k];
+            }
+        }
+        Frac {
+            n: V(out_n),
+            d: V(out_d),
+        }
+    }
+
+    /// The larger of two candidates, lane by lane (`n1 / d1 > n0 / d0` without dividing).
+    #[inline(always)]
+    fn max(self, o: Frac) -> Frac {
+        let (lhs, rhs) = (o.n * self.d, self.n * o.d);
+        let (mut n, mut d) = (self.n.0, self.d.0);
+        for k in 0..4 {
+            if lhs.0[k] > rhs.0[k] {
+                n[k] = o.n.0[k];
+                d[k] = o.d.0[k];
+            }
+        }
+        Frac { n: V(n), d: V(d) }
+    }
+
+    #[inline(always)]
+    fn value(self) -> V {
+        (self.n / self.d).sqrt()
+    }
+}
+
+/// The gap along the cross product of two edges, `(|nt| - extent) / |a_i x b_j|` with
+/// `|a_i x b_j|^2 = 1 - rij^2`; nearly parallel edges (`1 - rij^2 <= 1e-12`) are left out.
 #[inline(always)]
-fn cross_gap(nt: V, extent: V, rij: V) -> V {
-    let g = nt.abs() - extent;
-    let len2 = V::splat(1.0) - rij * rij;
-    let safe = len2.max(V::splat(1e-12));
-    (g / safe.sqrt()).where_positive(g, len2 - V::splat(1e-12))
+fn cross_gap(nt: V, extent: V, rij: V) -> Frac {
+    Frac::new(nt.abs() - extent, V::splat(1.0) - rij * rij, 1e-12)
 }
 
 /// Lower bounds on the distances of the four pairs `(a[k], b[k])`, both sides in mesh 1's
 /// frame (0 where the volumes may overlap).
 #[inline(always)]
 fn rss_separation4(a: &Side4, b: &Side4) -> L {
-    let ax = |c: usize, i: usize| V(a.axes[c][i]);
-    let bx = |c: usize, i: usize| V(b.axes[c][i]);
+    let ax = |c: usize, i: usize| a.axes[c][i];
+    let bx = |c: usize, i: usize| b.axes[c][i];
     let dot_ab =
         |i: usize, j: usize| ax(i, 0) * bx(j, 0) + ax(i, 1) * bx(j, 1) + ax(i, 2) * bx(j, 2);
     // r[i][j] = a_i . b_j, t = b's centre in a's frame, bt[j] = b_j . t.
@@ -220,9 +257,9 @@ fn rss_separation4(a: &Side4, b: &Side4) -> L {
         [dot_ab(2, 0), dot_ab(2, 1), dot_ab(2, 2)],
     ];
     let d = [
-        V(b.center[0]) - V(a.center[0]),
-        V(b.center[1]) - V(a.center[1]),
-        V(b.center[2]) - V(a.center[2]),
+        b.center[0] - a.center[0],
+        b.center[1] - a.center[1],
+        b.center[2] - a.center[2],
     ];
     let dot_ad = |i: usize| ax(i, 0) * d[0] + ax(i, 1) * d[1] + ax(i, 2) * d[2];
     let t = [dot_ad(0), dot_ad(1), dot_ad(2)];
@@ -233,8 +270,8 @@ fn rss_separation4(a: &Side4, b: &Side4) -> L {
         [r[1][0].abs(), r[1][1].abs(), r[1][2].abs()],
         [r[2][0].abs(), r[2][1].abs(), r[2][2].abs()],
     ];
-    let (la0, la1) = (V(a.half[0]), V(a.half[1]));
-    let (lb0, lb1) = (V(b.half[0]), V(b.half[1]));
+    let (la0, la1) = (a.half[0], a.half[1]);
+    let (lb0, lb1) = (b.half[0], b.half[1]);
     // Face axes (unit).
     let g0 = t[2].abs() - lb0 * ar[2][0] - lb1 * ar[2][1];
     let g1 = t[0].abs() - la0 - lb0 * ar[0][0] - lb1 * ar[0][1];
@@ -242,7 +279,11 @@ fn rss_separation4(a: &Side4, b: &Side4) -> L {
     let g3 = bt[2].abs() - la0 * ar[0][2] - la1 * ar[1][2];
     let g4 = bt[0].abs() - la0 * ar[0][0] - la1 * ar[1][0] - lb0;
     let g5 = bt[1].abs() - la0 * ar[0][1] - la1 * ar[1][1] - lb1;
-    let mut g = g0.max(g1).max(g2).max(g3).max(g4).max(g5);
+    let faces = g0.max(g1).max(g2).max(g3).max(g4).max(g5);
+    // The centre line, unit t / |t|: gap (|t|^2 - ext) / |t| = sqrt(n / d) with d = |t|^2.
+    let tl2 = t[0] * t[0] + t[1] * t[1] + t[2] * t[2];
+    let ext = la0 * t[0].abs() + la1 * t[1].abs() + lb0 * bt[0].abs() + lb1 * bt[1].abs();
+    let mut best = Frac::new(tl2 - ext, tl2, 0.0);
     // Edge cross products a_i x b_j, j = 0 (other b edge 1) and j = 1 (other b edge 0).
     for (j, lbo) in [(0, lb1), (1, lb0)] {
         let c0 = cross_gap(
@@ -260,14 +301,10 @@ fn rss_separation4(a: &Side4, b: &Side4) -> L {
             la0 * ar[1][j] + la1 * ar[0][j] + lbo * ar[2][2],
             r[2][j],
         );
-        g = g.max(c0).max(c1).max(c2);
+        best = best.max(c0).max(c1).max(c2);
     }
-    // The centre line (skipped where the centres coincide).
-    let tl = (t[0] * t[0] + t[1] * t[1] + t[2] * t[2]).sqrt();
-    let ext = la0 * t[0].abs() + la1 * t[1].abs() + lb0 * bt[0].abs() + lb1 * bt[1].abs();
-    let centre = (tl - ext / tl.max(V::splat(f64::MIN_POSITIVE))).where_positive(tl, tl);
-    g = g.max(centre);
-    (g - V(a.radius) - V(b.radius)).max(V::splat(0.0)).0
+    let g = faces.max(best.value());
+    (g - a.radius - b.radius).max(V::splat(0.0)).0
 }
 
 #[cfg(test)]

@@ -208,17 +208,19 @@ impl<'a> DistanceSearch<'a> {
                 break;
             }
         }
-        // The rest depth-first, nearest on top.
-        let mut rest = std::mem::take(&mut self.heap).into_vec();
-        rest.sort_unstable_by(|x, y| y.lb.total_cmp(&x.lb));
-        self.stack.extend(rest.iter().map(|p| (p.n1, p.n2, p.lb)));
-        rest.clear();
-        self.heap = BinaryHeap::from(rest);
-        while let Some((n1, n2, lb)) = self.stack.pop() {
-            if lb < self.cutoff() {
-                self.expand(n1, n2, false);
+        // The rest in queue order, each pair's subtree depth-first, nearest child first.
+        while let Some(p) = self.heap.pop() {
+            if p.lb >= self.cutoff() {
+                break;
+            }
+            self.stack.push((p.n1, p.n2, p.lb));
+            while let Some((n1, n2, lb)) = self.stack.pop() {
+                if lb < self.cutoff() {
+                    self.expand(n1, n2, false);
+                }
             }
         }
+        self.heap.clear();
     }
 
     /// Evaluates the pair `(n1, n2)`: the triangle pair of two leaves (returns true), or the
