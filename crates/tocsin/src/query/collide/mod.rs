@@ -5,7 +5,7 @@
 //! separating axis shows a positive gap (beyond a rounding slack, so touching is never
 //! skipped). Leaves use [`intersect_triangle_triangle`]. No OBB is kept: see ARCHITECTURE.md.
 
-use crate::bvh::{rss_separation, ASide, BSide, RelativeRss, Rss};
+use crate::bvh::{rss_separation, Lanes4, RelativeRss, Rss};
 use crate::math::Pose;
 use crate::mesh::TriMesh;
 use crate::query::distance::intersect_triangle_triangle;
@@ -50,7 +50,7 @@ pub fn collide_pairs(
 /// Calls `on_pair` for intersecting triangle pairs until it returns false.
 ///
 /// A pair is on the stack only once its volumes are known to overlap (within the slack); when
-/// one volume is split, the other's transform is computed once for both children.
+/// two internal volumes meet, both are split and the four child pairs bounded together.
 fn traverse(
     mesh1: &TriMesh,
     pose1: &Pose,
@@ -76,6 +76,7 @@ fn traverse(
     ) {
         return;
     }
+    let lanes = Lanes4::detect();
     let mut stack: Vec<(u32, u32)> = vec![(0, 0)];
     while let Some((n1, n2)) = stack.pop() {
         let (a, b) = (&nodes1[n1 as usize], &nodes2[n2 as usize]);
@@ -92,23 +93,32 @@ fn traverse(
             }
             continue;
         }
-        if !a.is_leaf() && (b.is_leaf() || a.rss.size() >= b.rss.size()) {
-            let side = BSide::new(&b.rss, &rot12, trans12);
-            let (c1, c2) = a.children(n1);
-            for c in [c2, c1] {
-                let ca = &nodes1[c as usize].rss;
-                if !apart(ca, &b.rss, &RelativeRss::from_b_side(ca, &side)) {
-                    stack.push((c, n2));
-                }
+        // Two internal nodes are split together: four child pairs, one 4-lane bound (with
+        // one internal node, lanes 2 and 3 repeat 0 and 1 and are ignored).
+        let (kids, n): ([(u32, u32); 4], usize) = match (a.is_leaf(), b.is_leaf()) {
+            (false, false) => {
+                let ((a1, a2), (b1, b2)) = (a.children(n1), b.children(n2));
+                ([(a1, b1), (a1, b2), (a2, b1), (a2, b2)], 4)
             }
-        } else {
-            let side = ASide::new(&a.rss, &rot12, trans12);
-            let (c1, c2) = b.children(n2);
-            for c in [c2, c1] {
-                let cb = &nodes2[c as usize].rss;
-                if !apart(&a.rss, cb, &RelativeRss::from_a_side(&side, cb)) {
-                    stack.push((n1, c));
-                }
+            (false, _) => {
+                let (a1, a2) = a.children(n1);
+                ([(a1, n2), (a2, n2), (a1, n2), (a2, n2)], 2)
+            }
+            _ => {
+                let (b1, b2) = b.children(n2);
+                ([(n1, b1), (n1, b2), (n1, b1), (n1, b2)], 2)
+            }
+        };
+        let bounds = lanes.bounds(
+            kids.map(|k| &nodes1[k.0 as usize].rss),
+            kids.map(|k| &nodes2[k.1 as usize].rss),
+            &rot12,
+            trans12,
+        );
+        // Pushed last first, so that the first child pair is visited first.
+        for k in (0..n).rev() {
+            if bounds[k] <= slack {
+                stack.push(kids[k]);
             }
         }
     }
