@@ -1,6 +1,6 @@
 //! Distance on knot34k at random poses (8 per separation of 1%, 10% and 100% of the bounding
 //! radius, as in `bench/compare_fcl.py`), for profiling: prints the mean of the per-pose best
-//! times per separation. Usage: `profile_distance [repeats per pose]`.
+//! times per separation. Usage: `profile_distance [repeats per pose] [only this separation]`.
 use tocsin::{distance, mesh, DistanceOptions, Pose, Vec3};
 
 fn main() {
@@ -27,6 +27,7 @@ fn main() {
     let opts = DistanceOptions::default();
     let dist = |p: &Pose| distance(&m, &Pose::IDENTITY, &m, p, &opts).map_or(0.0, |d| d.distance);
     let radius = m.bounding_radius();
+    let only: Option<f64> = std::env::args().nth(2).and_then(|a| a.parse().ok());
     for frac in [0.01, 0.1, 1.0] {
         let mut total = 0.0;
         for _ in 0..8 {
@@ -43,6 +44,9 @@ fn main() {
                 }
             }
             let pose = at(hi);
+            if only.is_some_and(|o| o != frac) {
+                continue;
+            }
             let mut best = f64::INFINITY;
             for _ in 0..5 {
                 let t = std::time::Instant::now();

@@ -62,31 +62,28 @@ pub(crate) struct DistanceSearch<'a> {
     lanes: Lanes4,
 }
 
-/// A node pair waiting in the best-first queue; the smallest bound is the greatest.
-#[derive(Clone, Copy, Debug)]
+/// A node pair waiting in the best-first queue, ordered by its bound (the smallest is the
+/// greatest), stored as the bits of `lb + slack >= 0`, which order like the values.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
 struct Pending {
-    lb: f64,
+    key: std::cmp::Reverse<u64>,
     n1: u32,
     n2: u32,
 }
 
-impl PartialEq for Pending {
-    fn eq(&self, other: &Self) -> bool {
-        self.cmp(other).is_eq()
+impl Pending {
+    #[inline]
+    fn new(lb: f64, slack: f64, n1: u32, n2: u32) -> Self {
+        Self {
+            key: std::cmp::Reverse((lb + slack).max(0.0).to_bits()),
+            n1,
+            n2,
+        }
     }
-}
 
-impl Eq for Pending {}
-
-impl PartialOrd for Pending {
-    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
-        Some(self.cmp(other))
-    }
-}
-
-impl Ord for Pending {
-    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
-        other.lb.total_cmp(&self.lb)
+    #[inline]
+    fn lb(&self, slack: f64) -> f64 {
+        f64::from_bits(self.key.0) - slack
     }
 }
 
@@ -197,9 +194,9 @@ impl<'a> DistanceSearch<'a> {
             &RelativeRss::new(root1, root2, &self.rot12, self.trans12),
             f64::INFINITY,
         );
-        self.heap.push(Pending { lb, n1: 0, n2: 0 });
+        self.heap.push(Pending::new(lb, self.slack, 0, 0));
         while let Some(p) = self.heap.pop() {
-            if p.lb >= self.cutoff() {
+            if p.lb(self.slack) >= self.cutoff() {
                 // Everything left in the queue is bounded at least as high.
                 self.heap.clear();
                 return;
@@ -210,10 +207,11 @@ impl<'a> DistanceSearch<'a> {
         }
         // The rest in queue order, each pair's subtree depth-first, nearest child first.
         while let Some(p) = self.heap.pop() {
-            if p.lb >= self.cutoff() {
+            let lb = p.lb(self.slack);
+            if lb >= self.cutoff() {
                 break;
             }
-            self.stack.push((p.n1, p.n2, p.lb));
+            self.stack.push((p.n1, p.n2, lb));
             while let Some((n1, n2, lb)) = self.stack.pop() {
                 if lb < self.cutoff() {
                     self.expand(n1, n2, false);
@@ -266,7 +264,8 @@ impl<'a> DistanceSearch<'a> {
         }
         let queued = &mut queued[..m];
         if to_heap {
-            let pending = queued.iter().map(|&(n1, n2, lb)| Pending { lb, n1, n2 });
+            let slack = self.slack;
+            let pending = queued.iter().map(|&(n1, n2, lb)| Pending::new(lb, slack, n1, n2));
             self.heap.extend(pending);
         } else {
             // Farthest first, so that the nearest is on top (insertion sort of at most four).
