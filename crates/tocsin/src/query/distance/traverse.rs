@@ -265,7 +265,9 @@ impl<'a> DistanceSearch<'a> {
         let queued = &mut queued[..m];
         if to_heap {
             let slack = self.slack;
-            let pending = queued.iter().map(|&(n1, n2, lb)| Pending::new(lb, slack, n1, n2));
+            let pending = queued
+                .iter()
+                .map(|&(n1, n2, lb)| Pending::new(lb, slack, n1, n2));
             self.heap.extend(pending);
         } else {
             // Farthest first, so that the nearest is on top (insertion sort of at most four).
