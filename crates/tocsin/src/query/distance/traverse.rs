@@ -55,6 +55,8 @@ pub(crate) struct DistanceSearch<'a> {
     /// Absolute slack subtracted from every bound, covering rounding in the relative transform.
     slack: f64,
     best: Best,
+    /// [`Self::compute_cutoff`] for the current best.
+    cut: f64,
     stack: Vec<(u32, u32, f64)>,
     heap: BinaryHeap<Pending>,
     /// [`HEAP_CAP`], other values in tests.
@@ -100,7 +102,7 @@ impl<'a> DistanceSearch<'a> {
             + mesh2.bounding_radius()
             + mesh1.bvh().root().center.length()
             + mesh2.bvh().root().center.length();
-        Self {
+        let mut search = Self {
             bvh1: mesh1.bvh(),
             bvh2: mesh2.bvh(),
             rot12: pos12.rotation,
@@ -116,11 +118,14 @@ impl<'a> DistanceSearch<'a> {
                 leaf1: 0,
                 leaf2: 0,
             },
+            cut: f64::INFINITY,
             stack: Vec::with_capacity(64),
             heap: BinaryHeap::with_capacity(64),
             heap_cap: HEAP_CAP,
             lanes: Lanes4::detect(),
-        }
+        };
+        search.cut = search.compute_cutoff();
+        search
     }
 
     pub(crate) fn best(&self) -> &Best {
@@ -138,9 +143,14 @@ impl<'a> DistanceSearch<'a> {
         }
     }
 
-    /// Bound below which a pair is still worth visiting (`NEG_INFINITY` once the search is done).
+    /// Bound below which a pair is still worth visiting (`NEG_INFINITY` once the search is done);
+    /// cached, since it changes only with the best pair.
     #[inline]
     fn cutoff(&self) -> f64 {
+        self.cut
+    }
+
+    fn compute_cutoff(&self) -> f64 {
         let improve = (self.best.distance - self.abs) / (1.0 + self.rel);
         match self.stop {
             // A pair whose bound exceeds the threshold cannot answer "within".
@@ -173,6 +183,7 @@ impl<'a> DistanceSearch<'a> {
                 leaf1,
                 leaf2,
             };
+            self.cut = self.compute_cutoff();
         }
     }
 
