@@ -1,7 +1,7 @@
 //! Four RSS pair bounds at once, for the distance search.
 //!
 //! The same 13 candidate axes as [`super::rss_separation`] (both normals, the four rectangle
-//! edges, the six edge cross products and the centre line), but evaluated for four pairs in
+//! edges, the six edge cross products and the line from `a`'s rectangle to `b`'s centre), but evaluated for four pairs in
 //! lanes, without early exits or branches, and without the direction. Every step is a loop over
 //! `[f64; 4]` so that the compiler vectorises it (two lanes per instruction with SSE2, four
 //! with AVX2 where the build targets it). Each lane's value is the largest gap over the axes, a
@@ -183,13 +183,25 @@ impl V {
         V(out)
     }
     #[inline(always)]
+    fn min(self, o: V) -> V {
+        let mut out = [0.0; 4];
+        for k in 0..4 {
+            out[k] = if self.0[k] < o.0[k] {
+                self.0[k]
+            } else {
+                o.0[k]
+            };
+        }
+        V(out)
+    }
+    #[inline(always)]
     fn splat(x: f64) -> V {
         V([x; 4])
     }
 }
 
 /// A candidate gap `sqrt(n / d)` kept as a fraction, so that only the largest of the seven
-/// normalised candidates (six edge cross products and the centre line) costs a square root and
+/// normalised candidates (six edge cross products and the line to `b`'s centre) costs a square root and
 /// a division.
 #[derive(Clone, Copy, Debug)]
 struct Frac {
@@ -280,10 +292,17 @@ fn rss_separation4(a: &Side4, b: &Side4) -> L {
     let g4 = bt[0].abs() - la0 * ar[0][0] - la1 * ar[1][0] - lb0;
     let g5 = bt[1].abs() - la0 * ar[0][1] - la1 * ar[1][1] - lb1;
     let faces = g0.max(g1).max(g2).max(g3).max(g4).max(g5);
-    // The centre line, unit t / |t|: gap (|t|^2 - ext) / |t| = sqrt(n / d) with d = |t|^2.
-    let tl2 = t[0] * t[0] + t[1] * t[1] + t[2] * t[2];
-    let ext = la0 * t[0].abs() + la1 * t[1].abs() + lb0 * bt[0].abs() + lb1 * bt[1].abs();
-    let mut best = Frac::new(tl2 - ext, tl2, 0.0);
+    // The line from the point of a's rectangle nearest to b's centre to that centre:
+    // u = t - clamp(t), gap (u.t - extents) / |u| = sqrt(n / d) with d = |u|^2 (u.t >= 0).
+    let clamp = |x: V, l: V| x.max(V::splat(0.0) - l).min(l);
+    let u = [t[0] - clamp(t[0], la0), t[1] - clamp(t[1], la1), t[2]];
+    let u_b = |j: usize| u[0] * r[0][j] + u[1] * r[1][j] + u[2] * r[2][j];
+    let gu = (u[0] * t[0] + u[1] * t[1] + u[2] * t[2]).abs()
+        - la0 * u[0].abs()
+        - la1 * u[1].abs()
+        - lb0 * u_b(0).abs()
+        - lb1 * u_b(1).abs();
+    let mut best = Frac::new(gu, u[0] * u[0] + u[1] * u[1] + u[2] * u[2], 0.0);
     // Edge cross products a_i x b_j, j = 0 (other b edge 1) and j = 1 (other b edge 0).
     for (j, lbo) in [(0, lb1), (1, lb0)] {
         let c0 = cross_gap(
