@@ -152,113 +152,58 @@ impl BSide {
 /// A lower bound on the distance between two RSS (0 when they may overlap) and the unit
 /// direction, in `a`'s frame, along which it was found (pointing from `a` towards `b`).
 ///
-/// The bound is the largest gap `|n.t| - extent_a(n) - extent_b(n)` over 13 candidate
-/// separating axes (both normals, the four rectangle edges, the six edge cross products and
-/// the line from the point of `a`'s rectangle nearest to `b`'s centre to that centre, which
-/// covers the corner configurations better than the line between the centres: 5 to 8% fewer
-/// node pairs in the distance search on knot34k). By convex duality the exact distance is the largest gap over all unit
-/// directions, so any candidate gives a valid lower bound, and the face and edge-edge cases are
-/// exact. Returns as soon as a gap reaches `cutoff` (the caller can prune).
+/// The bound is the largest gap `|n.t| - extent_a(n) - extent_b(n)` over three candidate
+/// separating axes: the two normals, and the near-points axis: `b`'s centre clamped to `a`'s
+/// rectangle, that point clamped to `b`'s rectangle, and that one clamped back to `a`'s; the axis
+/// runs between the last two points. That is two and a half steps of alternating projection
+/// towards the closest points of the two rectangles, so the axis approaches the direction of
+/// the exact distance (exact for two balls, and for a rectangle and a ball). By convex duality
+/// every unit direction gives a valid lower bound.
+///
+/// Measured on the knot34k distance workload (`examples/profile_distance.rs`) against the 13
+/// axes used before (normals, rectangle edges, edge cross products, the line between the
+/// centres): 12 to 28% fewer node pairs, 28% fewer instructions. Adding back the edge crosses
+/// or the edge directions prunes under 5% more pairs and costs more than it saves.
+/// Returns as soon as a normal's gap reaches `cutoff` (the caller can prune).
 #[inline]
 pub(crate) fn rss_separation(a: &Rss, b: &Rss, rel: &RelativeRss, cutoff: f64) -> (f64, Vec3) {
     let (la0, la1) = (a.half_lengths[0], a.half_lengths[1]);
     let (lb0, lb1) = (b.half_lengths[0], b.half_lengths[1]);
     let rr = a.radius + b.radius;
-    // r[i][j] = a_i . b_j (row i, column j), t in a's frame.
-    let c = rel.r.to_cols_array_2d();
-    let r = |i: usize, j: usize| c[j][i];
-    let ar = |i: usize, j: usize| c[j][i].abs();
+    // b's axes in a's frame, and b's centre.
+    let (b0, b1, b2) = (rel.r.x_axis, rel.r.y_axis, rel.r.z_axis);
     let t = rel.t;
-    let bt = [
-        rel.r.x_axis.dot(t),
-        rel.r.y_axis.dot(t),
-        rel.r.z_axis.dot(t),
-    ];
-    // Face axes of both rectangles: unit, so the gap needs no division. Evaluated one at a
-    // time so that a separated pair (most pairs in collide) returns at its first gap.
-    let face_gap = |k: usize| match k {
-        0 => t.z.abs() - lb0 * ar(2, 0) - lb1 * ar(2, 1),
-        1 => t.x.abs() - la0 - lb0 * ar(0, 0) - lb1 * ar(0, 1),
-        2 => t.y.abs() - la1 - lb0 * ar(1, 0) - lb1 * ar(1, 1),
-        3 => bt[2].abs() - la0 * ar(0, 2) - la1 * ar(1, 2),
-        4 => bt[0].abs() - la0 * ar(0, 0) - la1 * ar(1, 0) - lb0,
-        _ => bt[1].abs() - la0 * ar(0, 1) - la1 * ar(1, 1) - lb1,
-    };
-    let face_axis = |k: usize| match k {
-        0 => Vec3::Z * t.z.signum(),
-        1 => Vec3::X * t.x.signum(),
-        2 => Vec3::Y * t.y.signum(),
-        3 => rel.r.z_axis * bt[2].signum(),
-        4 => rel.r.x_axis * bt[0].signum(),
-        _ => rel.r.y_axis * bt[1].signum(),
-    };
-    let (mut which, mut face_best) = (0, f64::NEG_INFINITY);
-    for k in 0..6 {
-        let g = face_gap(k);
-        if g > face_best {
-            (which, face_best) = (k, g);
-            if g - rr >= cutoff {
-                return ((g - rr).max(0.0), face_axis(k));
-            }
-        }
+    let normal_a = t.z.abs() - lb0 * b0.z.abs() - lb1 * b1.z.abs();
+    if normal_a - rr >= cutoff {
+        return ((normal_a - rr).max(0.0), Vec3::Z * t.z.signum());
     }
-    let mut best = face_best - rr;
-    let mut axis = None;
-    // Cross products e_i x b_j: a positive numerator is needed to beat the face axes, and
-    // near-parallel edge pairs (tiny cross product) are skipped.
-    let lb = [lb0, lb1];
-    for j in 0..2 {
-        let o = 1 - j;
-        let crosses = [
-            (
-                r(1, j) * t.z - r(2, j) * t.y,
-                la1 * ar(2, j) + lb[o] * ar(0, 2),
-                r(0, j),
-            ),
-            (
-                r(2, j) * t.x - r(0, j) * t.z,
-                la0 * ar(2, j) + lb[o] * ar(1, 2),
-                r(1, j),
-            ),
-            (
-                r(0, j) * t.y - r(1, j) * t.x,
-                la0 * ar(1, j) + la1 * ar(0, j) + lb[o] * ar(2, 2),
-                r(2, j),
-            ),
-        ];
-        for (i, (nt, extent, rij)) in crosses.into_iter().enumerate() {
-            let g = nt.abs() - extent;
-            let len2 = 1.0 - rij * rij;
-            let beat = (best + rr).max(0.0);
-            if g > 0.0 && len2 > 1e-12 && g * g > beat * beat * len2 {
-                let len = len2.sqrt();
-                best = g / len - rr;
-                axis = Some((i, j, nt.signum() / len));
-                if best >= cutoff {
-                    break;
-                }
-            }
-        }
+    let bt2 = b2.dot(t);
+    let normal_b = bt2.abs() - la0 * b2.x.abs() - la1 * b2.y.abs();
+    if normal_b - rr >= cutoff {
+        return ((normal_b - rr).max(0.0), b2 * bt2.signum());
     }
-    if best < cutoff {
-        // From the point of a's rectangle nearest to b's centre to that centre (u.t >= 0).
-        let u = Vec3::new(t.x - t.x.clamp(-la0, la0), t.y - t.y.clamp(-la1, la1), t.z);
-        let ul = u.length();
-        if ul > 0.0 {
-            let (ub0, ub1) = (u.dot(rel.r.x_axis), u.dot(rel.r.y_axis));
-            let ext = la0 * u.x.abs() + la1 * u.y.abs() + lb0 * ub0.abs() + lb1 * ub1.abs();
-            let g = (u.dot(t).abs() - ext) / ul;
-            if g - rr > best {
-                return ((g - rr).max(0.0), u / ul);
-            }
-        }
-    }
-    let axis = match axis {
-        None => face_axis(which),
-        Some((i, j, scale)) => {
-            let bj = rel.r.col(j);
-            Vec3::new([1.0, 0.0, 0.0][i], [0.0, 1.0, 0.0][i], [0.0, 0.0, 1.0][i]).cross(bj) * scale
-        }
+    let pa = Vec3::new(t.x.max(-la0).min(la0), t.y.max(-la1).min(la1), 0.0);
+    let q = pa - t;
+    let pb = t + b0 * b0.dot(q).max(-lb0).min(lb0) + b1 * b1.dot(q).max(-lb1).min(lb1);
+    let u = Vec3::new(
+        pb.x - pb.x.max(-la0).min(la0),
+        pb.y - pb.y.max(-la1).min(la1),
+        pb.z,
+    );
+    let ut = u.dot(t);
+    let gap_u = ut.abs()
+        - la0 * u.x.abs()
+        - la1 * u.y.abs()
+        - lb0 * u.dot(b0).abs()
+        - lb1 * u.dot(b1).abs();
+    let ul = u.length_squared().max(f64::MIN_POSITIVE).sqrt();
+    let near = gap_u / ul;
+    let (gap, axis) = if near > normal_a.max(normal_b) && u != Vec3::ZERO {
+        (near, u / ul * ut.signum())
+    } else if normal_a >= normal_b {
+        (normal_a, Vec3::Z * t.z.signum())
+    } else {
+        (normal_b, b2 * bt2.signum())
     };
-    (best.max(0.0), axis)
+    ((gap - rr).max(0.0), axis)
 }

@@ -57,8 +57,11 @@ fn bounds_avx2(a: [&Rss; 4], b: [&Rss; 4], rot12: &Mat3, trans12: Vec3) -> L {
     bounds_lanes(a, b, rot12, trans12)
 }
 
+#[allow(missing_docs)]
+pub static CALLS: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
 #[inline(always)]
 fn bounds_lanes(a: [&Rss; 4], b: [&Rss; 4], rot12: &Mat3, trans12: Vec3) -> L {
+    CALLS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
     rss_separation4(&Side4::mesh1(a), &Side4::mesh2(b, rot12, trans12))
 }
 
@@ -200,60 +203,6 @@ impl V {
     }
 }
 
-/// A candidate gap `sqrt(n / d)` kept as a fraction, so that only the largest of the seven
-/// normalised candidates (six edge cross products and the line to `b`'s centre) costs a square root and
-/// a division.
-#[derive(Clone, Copy, Debug)]
-struct Frac {
-    n: V,
-    d: V,
-}
-
-impl Frac {
-    /// The gap `g / sqrt(d)` where `g > 0`, `d > min_d` and `g * g` is finite; else 0, which is
-    /// harmless in the maximum because the bound is clamped at 0 after subtracting the radii.
-    #[inline(always)]
-    fn new(g: V, d: V, min_d: f64) -> Frac {
-        let (n, mut out_n, mut out_d) = (g * g, [0.0; 4], [1.0; 4]);
-        for k in 0..4 {
-            if g.0[k] > 0.0 && d.0[k] > min_d && n.0[k] < f64::INFINITY {
-                out_n[k] = n.0[k];
-                out_d[k] = d.0[k];
-            }
-        }
-        Frac {
-            n: V(out_n),
-            d: V(out_d),
-        }
-    }
-
-    /// The larger of two candidates, lane by lane (`n1 / d1 > n0 / d0` without dividing).
-    #[inline(always)]
-    fn max(self, o: Frac) -> Frac {
-        let (lhs, rhs) = (o.n * self.d, self.n * o.d);
-        let (mut n, mut d) = (self.n.0, self.d.0);
-        for k in 0..4 {
-            if lhs.0[k] > rhs.0[k] {
-                n[k] = o.n.0[k];
-                d[k] = o.d.0[k];
-            }
-        }
-        Frac { n: V(n), d: V(d) }
-    }
-
-    #[inline(always)]
-    fn value(self) -> V {
-        (self.n / self.d).sqrt()
-    }
-}
-
-/// The gap along the cross product of two edges, `(|nt| - extent) / |a_i x b_j|` with
-/// `|a_i x b_j|^2 = 1 - rij^2`; nearly parallel edges (`1 - rij^2 <= 1e-12`) are left out.
-#[inline(always)]
-fn cross_gap(nt: V, extent: V, rij: V) -> Frac {
-    Frac::new(nt.abs() - extent, V::splat(1.0) - rij * rij, 1e-12)
-}
-
 /// Lower bounds on the distances of the four pairs `(a[k], b[k])`, both sides in mesh 1's
 /// frame (0 where the volumes may overlap).
 #[inline(always)]
@@ -262,7 +211,7 @@ fn rss_separation4(a: &Side4, b: &Side4) -> L {
     let bx = |c: usize, i: usize| b.axes[c][i];
     let dot_ab =
         |i: usize, j: usize| ax(i, 0) * bx(j, 0) + ax(i, 1) * bx(j, 1) + ax(i, 2) * bx(j, 2);
-    // r[i][j] = a_i . b_j, t = b's centre in a's frame, bt[j] = b_j . t.
+    // r[i][j] = a_i . b_j (so b_j in a's frame is column j), t = b's centre in a's frame.
     let r = [
         [dot_ab(0, 0), dot_ab(0, 1), dot_ab(0, 2)],
         [dot_ab(1, 0), dot_ab(1, 1), dot_ab(1, 2)],
@@ -275,54 +224,36 @@ fn rss_separation4(a: &Side4, b: &Side4) -> L {
     ];
     let dot_ad = |i: usize| ax(i, 0) * d[0] + ax(i, 1) * d[1] + ax(i, 2) * d[2];
     let t = [dot_ad(0), dot_ad(1), dot_ad(2)];
-    let dot_bt = |j: usize| r[0][j] * t[0] + r[1][j] * t[1] + r[2][j] * t[2];
-    let bt = [dot_bt(0), dot_bt(1), dot_bt(2)];
-    let ar = [
-        [r[0][0].abs(), r[0][1].abs(), r[0][2].abs()],
-        [r[1][0].abs(), r[1][1].abs(), r[1][2].abs()],
-        [r[2][0].abs(), r[2][1].abs(), r[2][2].abs()],
-    ];
     let (la0, la1) = (a.half[0], a.half[1]);
     let (lb0, lb1) = (b.half[0], b.half[1]);
-    // Face axes (unit).
-    let g0 = t[2].abs() - lb0 * ar[2][0] - lb1 * ar[2][1];
-    let g1 = t[0].abs() - la0 - lb0 * ar[0][0] - lb1 * ar[0][1];
-    let g2 = t[1].abs() - la1 - lb0 * ar[1][0] - lb1 * ar[1][1];
-    let g3 = bt[2].abs() - la0 * ar[0][2] - la1 * ar[1][2];
-    let g4 = bt[0].abs() - la0 * ar[0][0] - la1 * ar[1][0] - lb0;
-    let g5 = bt[1].abs() - la0 * ar[0][1] - la1 * ar[1][1] - lb1;
-    let faces = g0.max(g1).max(g2).max(g3).max(g4).max(g5);
-    // The line from the point of a's rectangle nearest to b's centre to that centre:
-    // u = t - clamp(t), gap (u.t - extents) / |u| = sqrt(n / d) with d = |u|^2 (u.t >= 0).
+    // The two normals (unit axes).
+    let bt2 = r[0][2] * t[0] + r[1][2] * t[1] + r[2][2] * t[2];
+    let normal_a = t[2].abs() - lb0 * r[2][0].abs() - lb1 * r[2][1].abs();
+    let normal_b = bt2.abs() - la0 * r[0][2].abs() - la1 * r[1][2].abs();
+    // The near-points axis: b's centre clamped to a's rectangle (pa), that point clamped to b's
+    // rectangle (pb), pb clamped back to a's rectangle; u runs from there to pb (a's frame).
     let clamp = |x: V, l: V| x.max(V::splat(0.0) - l).min(l);
-    let u = [t[0] - clamp(t[0], la0), t[1] - clamp(t[1], la1), t[2]];
-    let u_b = |j: usize| u[0] * r[0][j] + u[1] * r[1][j] + u[2] * r[2][j];
-    let gu = (u[0] * t[0] + u[1] * t[1] + u[2] * t[2]).abs()
+    let pa = [clamp(t[0], la0), clamp(t[1], la1)];
+    let q = [pa[0] - t[0], pa[1] - t[1], V::splat(0.0) - t[2]];
+    let in_b = |j: usize| r[0][j] * q[0] + r[1][j] * q[1] + r[2][j] * q[2];
+    let pb_local = [clamp(in_b(0), lb0), clamp(in_b(1), lb1)];
+    let pb = [
+        t[0] + r[0][0] * pb_local[0] + r[0][1] * pb_local[1],
+        t[1] + r[1][0] * pb_local[0] + r[1][1] * pb_local[1],
+        t[2] + r[2][0] * pb_local[0] + r[2][1] * pb_local[1],
+    ];
+    let u = [pb[0] - clamp(pb[0], la0), pb[1] - clamp(pb[1], la1), pb[2]];
+    let u_dot_b = |j: usize| u[0] * r[0][j] + u[1] * r[1][j] + u[2] * r[2][j];
+    let gap_u = (u[0] * t[0] + u[1] * t[1] + u[2] * t[2]).abs()
         - la0 * u[0].abs()
         - la1 * u[1].abs()
-        - lb0 * u_b(0).abs()
-        - lb1 * u_b(1).abs();
-    let mut best = Frac::new(gu, u[0] * u[0] + u[1] * u[1] + u[2] * u[2], 0.0);
-    // Edge cross products a_i x b_j, j = 0 (other b edge 1) and j = 1 (other b edge 0).
-    for (j, lbo) in [(0, lb1), (1, lb0)] {
-        let c0 = cross_gap(
-            r[1][j] * t[2] - r[2][j] * t[1],
-            la1 * ar[2][j] + lbo * ar[0][2],
-            r[0][j],
-        );
-        let c1 = cross_gap(
-            r[2][j] * t[0] - r[0][j] * t[2],
-            la0 * ar[2][j] + lbo * ar[1][2],
-            r[1][j],
-        );
-        let c2 = cross_gap(
-            r[0][j] * t[1] - r[1][j] * t[0],
-            la0 * ar[1][j] + la1 * ar[0][j] + lbo * ar[2][2],
-            r[2][j],
-        );
-        best = best.max(c0).max(c1).max(c2);
-    }
-    let g = faces.max(best.value());
+        - lb0 * u_dot_b(0).abs()
+        - lb1 * u_dot_b(1).abs();
+    let ul2 = u[0] * u[0] + u[1] * u[1] + u[2] * u[2];
+    // gap_u scales with |u| (it is 0 for u = 0); dividing by at least sqrt(MIN_POSITIVE) can
+    // only lower a bound.
+    let near = gap_u / ul2.max(V::splat(f64::MIN_POSITIVE)).sqrt();
+    let g = normal_a.max(normal_b).max(near);
     (g - a.radius - b.radius).max(V::splat(0.0)).0
 }
 
