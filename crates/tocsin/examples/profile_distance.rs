@@ -30,7 +30,6 @@ fn main() {
     let only: Option<f64> = std::env::args().nth(2).and_then(|a| a.parse().ok());
     for frac in [0.01, 0.1, 1.0] {
         let mut total = 0.0;
-        let mut calls = 0u64;
         for _ in 0..8 {
             let (axis, angle, dir) = (unit(), 0.3 + 2.8 * unit().x.abs(), unit());
             let at = |s: f64| Pose::from_axis_angle(axis, angle, dir * s);
@@ -49,7 +48,6 @@ fn main() {
                 continue;
             }
             let mut best = f64::INFINITY;
-            let c0 = tocsin::bvh::rss4::CALLS.load(std::sync::atomic::Ordering::Relaxed);
             for _ in 0..5 {
                 let t = std::time::Instant::now();
                 for _ in 0..repeats {
@@ -58,7 +56,6 @@ fn main() {
                 best = best.min(t.elapsed().as_secs_f64() / f64::from(repeats));
             }
             total += best;
-            calls += tocsin::bvh::rss4::CALLS.load(std::sync::atomic::Ordering::Relaxed) - c0;
         }
         println!(
             "separation {frac} R: mean {:.1} us calls {}",

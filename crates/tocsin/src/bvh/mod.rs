@@ -8,7 +8,7 @@
 mod build;
 mod eigen;
 mod rss;
-pub mod rss4;
+mod rss4;
 
 pub use rss::Rss;
 pub(crate) use rss::{rss_separation, ASide, BSide, RelativeRss};

@@ -57,11 +57,8 @@ fn bounds_avx2(a: [&Rss; 4], b: [&Rss; 4], rot12: &Mat3, trans12: Vec3) -> L {
     bounds_lanes(a, b, rot12, trans12)
 }
 
-#[allow(missing_docs)]
-pub static CALLS: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
 #[inline(always)]
 fn bounds_lanes(a: [&Rss; 4], b: [&Rss; 4], rot12: &Mat3, trans12: Vec3) -> L {
-    CALLS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
     rss_separation4(&Side4::mesh1(a), &Side4::mesh2(b, rot12, trans12))
 }
 
