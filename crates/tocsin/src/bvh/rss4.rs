@@ -1,11 +1,14 @@
-//! Four RSS pair bounds at once, for the distance search.
+//! Four RSS pair bounds at once, for the distance search and `collide`.
 //!
-//! The same 13 candidate axes as [`super::rss_separation`] (both normals, the four rectangle
-//! edges, the six edge cross products and the line from `a`'s rectangle to `b`'s centre), but evaluated for four pairs in
-//! lanes, without early exits or branches, and without the direction. Every step is a loop over
-//! `[f64; 4]` so that the compiler vectorises it (two lanes per instruction with SSE2, four
-//! with AVX2 where the build targets it). Each lane's value is the largest gap over the axes, a
-//! valid lower bound on the distance between its two volumes by convex duality.
+//! The same three candidate axes as [`super::rss_separation`] (the two normals and the
+//! near-points axis), evaluated for the four child pairs of an expansion in lanes, without
+//! early exits or branches, and without the direction. Lane `2 i + j` pairs `a[i]` with
+//! `b[j]`; mesh 2's two volumes are carried into mesh 1's frame once each before they are
+//! spread over the lanes. Every step is a loop over `[f64; 4]` so that the compiler vectorises
+//! it: two lanes per instruction with the baseline SSE2, four with AVX2, which [`Lanes4`]
+//! selects at run time where the CPU has it. No fused multiply-add is used, so both paths give
+//! the same bits. Each lane's value is the largest gap over the axes, a valid lower bound on the
+//! distance between its two volumes by convex duality.
 
 // Lane loops index several arrays at once; that is the shape the vectoriser wants.
 #![allow(clippy::needless_range_loop)]
@@ -37,10 +40,12 @@ impl Lanes4 {
         Self { avx2: false }
     }
 
-    /// Lower bounds (0 where they may overlap) on the distances of the pairs `(a[k], b[k])`,
-    /// `a` in mesh 1's frame, `b` in mesh 2's frame, mapped into mesh 1's by `rot12`, `trans12`.
+    /// Lower bounds (0 where they may overlap) on the distances of the four pairs
+    /// `(a[i], b[j])` in lane `2 i + j`; `a` in mesh 1's frame, `b` in mesh 2's frame, mapped
+    /// into mesh 1's by `rot12`, `trans12`. (An expansion splits one node or both, so its child
+    /// pairs always have this shape, with repeats where only one side is split.)
     #[inline(always)]
-    pub(crate) fn bounds(self, a: [&Rss; 4], b: [&Rss; 4], rot12: &Mat3, trans12: Vec3) -> L {
+    pub(crate) fn bounds(self, a: [&Rss; 2], b: [&Rss; 2], rot12: &Mat3, trans12: Vec3) -> L {
         #[cfg(target_arch = "x86_64")]
         if self.avx2 {
             // SAFETY: `bounds_avx2` only needs AVX2, which `detect` found on this CPU.
@@ -53,17 +58,31 @@ impl Lanes4 {
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-fn bounds_avx2(a: [&Rss; 4], b: [&Rss; 4], rot12: &Mat3, trans12: Vec3) -> L {
+fn bounds_avx2(a: [&Rss; 2], b: [&Rss; 2], rot12: &Mat3, trans12: Vec3) -> L {
     bounds_lanes(a, b, rot12, trans12)
 }
 
 #[inline(always)]
-fn bounds_lanes(a: [&Rss; 4], b: [&Rss; 4], rot12: &Mat3, trans12: Vec3) -> L {
-    rss_separation4(&Side4::mesh1(a), &Side4::mesh2(b, rot12, trans12))
+fn bounds_lanes(a: [&Rss; 2], b: [&Rss; 2], rot12: &Mat3, trans12: Vec3) -> L {
+    // b's two volumes carried into mesh 1's frame once each, then spread over the lanes.
+    let b0 = Rss {
+        axes: *rot12 * b[0].axes,
+        center: *rot12 * b[0].center + trans12,
+        ..*b[0]
+    };
+    let b1 = Rss {
+        axes: *rot12 * b[1].axes,
+        center: *rot12 * b[1].center + trans12,
+        ..*b[1]
+    };
+    rss_separation4(
+        &Side4::lanes([a[0], a[0], a[1], a[1]]),
+        &Side4::lanes([&b0, &b1, &b0, &b1]),
+    )
 }
 
-/// One side of the four pairs, already in mesh 1's frame: axes columns (x, y, normal), centre,
-/// half lengths and radius per lane.
+/// One side of the four pairs, in mesh 1's frame: axes columns (x, y, normal), centre, half
+/// lengths and radius per lane.
 #[derive(Clone, Copy, Debug)]
 struct Side4 {
     /// `axes[c][i]`: component `i` of axis `c`.
@@ -80,9 +99,9 @@ fn gather(v: &[&Rss; 4], f: impl Fn(&Rss) -> f64) -> V {
 }
 
 impl Side4 {
-    /// Four volumes of mesh 1, in mesh 1's frame.
+    /// The four volumes as lanes.
     #[inline(always)]
-    fn mesh1(v: [&Rss; 4]) -> Self {
+    fn lanes(v: [&Rss; 4]) -> Self {
         let axis = |c: usize| {
             [
                 gather(&v, |r| r.axes.col(c).x),
@@ -102,28 +121,6 @@ impl Side4 {
                 gather(&v, |r| r.half_lengths[1]),
             ],
             radius: gather(&v, |r| r.radius),
-        }
-    }
-
-    /// Four volumes of mesh 2, carried into mesh 1's frame by `rot12`, `trans12`.
-    #[inline(always)]
-    fn mesh2(v: [&Rss; 4], rot12: &Mat3, trans12: Vec3) -> Self {
-        let raw = Self::mesh1(v);
-        let m = rot12.to_cols_array_2d(); // m[col][row]
-        let rotate = |x: &[V; 3], i: usize| {
-            V::splat(m[0][i]) * x[0] + V::splat(m[1][i]) * x[1] + V::splat(m[2][i]) * x[2]
-        };
-        let turn = |x: &[V; 3]| [rotate(x, 0), rotate(x, 1), rotate(x, 2)];
-        let c = turn(&raw.center);
-        Self {
-            axes: [turn(&raw.axes[0]), turn(&raw.axes[1]), turn(&raw.axes[2])],
-            center: [
-                c[0] + V::splat(trans12.x),
-                c[1] + V::splat(trans12.y),
-                c[2] + V::splat(trans12.z),
-            ],
-            half: raw.half,
-            radius: raw.radius,
         }
     }
 }
@@ -317,16 +314,17 @@ mod tests {
     fn lanes_match_the_one_pair_bound() {
         let mut g = Lcg(11);
         for i in 0..4000 {
-            let a: [Rss; 4] = [0, 1, 2, 3].map(|k| g.rss(i + k));
-            let b: [Rss; 4] = [0, 1, 2, 3].map(|k| g.rss(i + 2 * k + 1));
+            let a: [Rss; 2] = [0, 1].map(|k| g.rss(i + k));
+            let b: [Rss; 2] = [0, 1].map(|k| g.rss(i + 2 * k + 1));
             let (rot12, trans12) = (g.rotation(), g.unit() * g.next() * 3.0);
             let detected = Lanes4::detect().bounds(a.each_ref(), b.each_ref(), &rot12, trans12);
             let plain = Lanes4::baseline().bounds(a.each_ref(), b.each_ref(), &rot12, trans12);
             assert_eq!(detected, plain, "AVX2 and baseline paths differ");
             for k in 0..4 {
-                let rel = RelativeRss::new(&a[k], &b[k], &rot12, trans12);
-                let (one, _) = rss_separation(&a[k], &b[k], &rel, f64::INFINITY);
-                let scale = 1.0 + a[k].center.length() + b[k].center.length() + trans12.length();
+                let (ak, bk) = (&a[k / 2], &b[k % 2]);
+                let rel = RelativeRss::new(ak, bk, &rot12, trans12);
+                let (one, _) = rss_separation(ak, bk, &rel, f64::INFINITY);
+                let scale = 1.0 + ak.center.length() + bk.center.length() + trans12.length();
                 assert!(
                     (one - plain[k]).abs() <= 1e-12 * scale,
                     "lane {k}: {} vs {one}",
@@ -341,16 +339,17 @@ mod tests {
     #[test]
     fn lanes_are_lower_bounds() {
         let mut g = Lcg(12);
-        for i in 0..1500 {
-            let a: [Rss; 4] = [0, 1, 2, 3].map(|k| g.rss(i + k));
-            let b: [Rss; 4] = [0, 1, 2, 3].map(|k| g.rss(i + 3 * k + 2));
+        for i in 0..3000 {
+            let a: [Rss; 2] = [0, 1].map(|k| g.rss(i + k));
+            let b: [Rss; 2] = [0, 1].map(|k| g.rss(i + 3 * k + 2));
             let (rot12, trans12) = (g.rotation(), g.unit() * g.next() * 5.0);
             let lb = Lanes4::detect().bounds(a.each_ref(), b.each_ref(), &rot12, trans12);
             for k in 0..4 {
-                let scale = 1.0 + a[k].center.length() + b[k].center.length() + trans12.length();
+                let (ak, bk) = (&a[k / 2], &b[k % 2]);
+                let scale = 1.0 + ak.center.length() + bk.center.length() + trans12.length();
                 for _ in 0..40 {
-                    let p = g.inside(&a[k]);
-                    let q = rot12 * g.inside(&b[k]) + trans12;
+                    let p = g.inside(ak);
+                    let q = rot12 * g.inside(bk) + trans12;
                     assert!(
                         lb[k] <= (p - q).length() + 1e-12 * scale,
                         "lane {k} not a bound"
@@ -366,7 +365,40 @@ mod tests {
             radius: 0.5,
         };
         let (a, b) = (ball(Vec3::ZERO), ball(Vec3::new(3.0, 4.0, 0.0)));
-        let lb = Lanes4::detect().bounds([&a; 4], [&b; 4], &Mat3::IDENTITY, Vec3::ZERO);
+        let lb = Lanes4::detect().bounds([&a; 2], [&b; 2], &Mat3::IDENTITY, Vec3::ZERO);
         assert!((lb[0] - 4.0).abs() < 1e-12, "{lb:?}");
+    }
+
+    /// A rectangle and a ball: the near-points axis runs from the rectangle's closest point, so
+    /// the bound is the exact distance, whatever the rotation and offset.
+    #[test]
+    fn rectangle_and_ball_are_exact() {
+        let mut g = Lcg(13);
+        for _ in 0..2000 {
+            let rect = Rss {
+                axes: g.rotation(),
+                center: g.unit(),
+                half_lengths: [g.next() * 2.0, g.next()],
+                radius: 0.0,
+            };
+            let ball = Rss {
+                axes: g.rotation(),
+                center: Vec3::ZERO,
+                half_lengths: [0.0, 0.0],
+                radius: 0.25 * g.next(),
+            };
+            let (rot12, trans12) = (g.rotation(), g.unit() * (1.0 + 4.0 * g.next()));
+            // The ball's centre in the rectangle's frame, and its distance to the rectangle.
+            let c = rect.axes.transpose() * (trans12 - rect.center);
+            let dx = (c.x.abs() - rect.half_lengths[0]).max(0.0);
+            let dy = (c.y.abs() - rect.half_lengths[1]).max(0.0);
+            let exact = ((dx * dx + dy * dy + c.z * c.z).sqrt() - ball.radius).max(0.0);
+            let lb = Lanes4::detect().bounds([&rect; 2], [&ball; 2], &rot12, trans12);
+            assert!(
+                (lb[0] - exact).abs() <= 1e-12 * (1.0 + exact),
+                "{} vs {exact}",
+                lb[0]
+            );
+        }
     }
 }

@@ -93,32 +93,33 @@ fn traverse(
             }
             continue;
         }
-        // Two internal nodes are split together: four child pairs, one 4-lane bound (with
-        // one internal node, lanes 2 and 3 repeat 0 and 1 and are ignored).
-        let (kids, n): ([(u32, u32); 4], usize) = match (a.is_leaf(), b.is_leaf()) {
+        // Two internal nodes are split together: four child pairs, one 4-lane bound. Lane
+        // 2 i + j pairs an[i] with bn[j]; with one internal node, half the lanes repeat.
+        const ALL: &[usize] = &[0, 1, 2, 3];
+        let (an, bn, used): ([u32; 2], [u32; 2], &[usize]) = match (a.is_leaf(), b.is_leaf()) {
             (false, false) => {
                 let ((a1, a2), (b1, b2)) = (a.children(n1), b.children(n2));
-                ([(a1, b1), (a1, b2), (a2, b1), (a2, b2)], 4)
+                ([a1, a2], [b1, b2], ALL)
             }
             (false, _) => {
                 let (a1, a2) = a.children(n1);
-                ([(a1, n2), (a2, n2), (a1, n2), (a2, n2)], 2)
+                ([a1, a2], [n2, n2], &[0, 2])
             }
             _ => {
                 let (b1, b2) = b.children(n2);
-                ([(n1, b1), (n1, b2), (n1, b1), (n1, b2)], 2)
+                ([n1, n1], [b1, b2], &[0, 1])
             }
         };
         let bounds = lanes.bounds(
-            kids.map(|k| &nodes1[k.0 as usize].rss),
-            kids.map(|k| &nodes2[k.1 as usize].rss),
+            an.map(|i| &nodes1[i as usize].rss),
+            bn.map(|i| &nodes2[i as usize].rss),
             &rot12,
             trans12,
         );
         // Pushed last first, so that the first child pair is visited first.
-        for k in (0..n).rev() {
+        for &k in used.iter().rev() {
             if bounds[k] <= slack {
-                stack.push(kids[k]);
+                stack.push((an[k / 2], bn[k % 2]));
             }
         }
     }

@@ -247,38 +247,39 @@ impl<'a> DistanceSearch<'a> {
     fn expand(&mut self, n1: u32, n2: u32, to_heap: bool) -> bool {
         let (nodes1, nodes2) = (self.bvh1.nodes(), self.bvh2.nodes());
         let (a, b) = (&nodes1[n1 as usize], &nodes2[n2 as usize]);
-        // With one internal node, lanes 2 and 3 repeat 0 and 1 and are ignored.
-        let (kids, n): ([(u32, u32); 4], usize) = match (a.is_leaf(), b.is_leaf()) {
+        // Lane 2 i + j pairs an[i] with bn[j]; with one internal node, half the lanes repeat.
+        const ALL: &[usize] = &[0, 1, 2, 3];
+        let (an, bn, used): ([u32; 2], [u32; 2], &[usize]) = match (a.is_leaf(), b.is_leaf()) {
             (true, true) => {
                 self.leaf_pair(a.leaf_position(), b.leaf_position());
                 return true;
             }
             (false, false) => {
                 let ((a1, a2), (b1, b2)) = (a.children(n1), b.children(n2));
-                ([(a1, b1), (a1, b2), (a2, b1), (a2, b2)], 4)
+                ([a1, a2], [b1, b2], ALL)
             }
             (false, true) => {
                 let (a1, a2) = a.children(n1);
-                ([(a1, n2), (a2, n2), (a1, n2), (a2, n2)], 2)
+                ([a1, a2], [n2, n2], &[0, 2])
             }
             (true, false) => {
                 let (b1, b2) = b.children(n2);
-                ([(n1, b1), (n1, b2), (n1, b1), (n1, b2)], 2)
+                ([n1, n1], [b1, b2], &[0, 1])
             }
         };
         let bounds = self.lanes.bounds(
-            kids.map(|k| &nodes1[k.0 as usize].rss),
-            kids.map(|k| &nodes2[k.1 as usize].rss),
+            an.map(|i| &nodes1[i as usize].rss),
+            bn.map(|i| &nodes2[i as usize].rss),
             &self.rot12,
             self.trans12,
         );
         let cutoff = self.cutoff();
         let mut queued = [(0u32, 0u32, 0.0f64); 4];
         let mut m = 0;
-        for k in 0..n {
+        for &k in used {
             let lb = bounds[k] - self.slack;
             if lb < cutoff {
-                queued[m] = (kids[k].0, kids[k].1, lb);
+                queued[m] = (an[k / 2], bn[k % 2], lb);
                 m += 1;
             }
         }
