@@ -162,8 +162,9 @@ impl BSide {
 ///
 /// Measured on the knot34k distance workload (`examples/profile_distance.rs`) against the 13
 /// axes used before (normals, rectangle edges, edge cross products, the line between the
-/// centres): 12 to 28% fewer node pairs, 28% fewer instructions. Adding back the edge crosses
-/// or the edge directions prunes under 5% more pairs and costs more than it saves.
+/// centres): 1%, 28% and 10% fewer node pairs at 0.01, 0.1 and 1 R, and 28% fewer
+/// instructions. Adding back the edge crosses or the edge directions prunes under 5% more
+/// pairs and costs more than it saves.
 /// Returns as soon as a normal's gap reaches `cutoff` (the caller can prune).
 #[inline]
 pub(crate) fn rss_separation(a: &Rss, b: &Rss, rel: &RelativeRss, cutoff: f64) -> (f64, Vec3) {
