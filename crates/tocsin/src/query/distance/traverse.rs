@@ -267,12 +267,11 @@ impl<'a> DistanceSearch<'a> {
                 ([n1, n1], [b1, b2], &[0, 1])
             }
         };
-        let bounds = self.lanes.bounds(
-            an.map(|i| &nodes1[i as usize].rss),
-            bn.map(|i| &nodes2[i as usize].rss),
-            &self.rot12,
-            self.trans12,
-        );
+        let (a0, a1) = (&nodes1[an[0] as usize].rss, &nodes1[an[1] as usize].rss);
+        let (b0, b1) = (&nodes2[bn[0] as usize].rss, &nodes2[bn[1] as usize].rss);
+        let bounds = self
+            .lanes
+            .bounds([a0, a1], [b0, b1], &self.rot12, self.trans12);
         let cutoff = self.cutoff();
         let mut queued = [(0u32, 0u32, 0.0f64); 4];
         let mut m = 0;
