@@ -110,12 +110,9 @@ fn traverse(
                 ([n1, n1], [b1, b2], &[0, 1])
             }
         };
-        let bounds = lanes.bounds(
-            an.map(|i| &nodes1[i as usize].rss),
-            bn.map(|i| &nodes2[i as usize].rss),
-            &rot12,
-            trans12,
-        );
+        let (a0, a1) = (&nodes1[an[0] as usize].rss, &nodes1[an[1] as usize].rss);
+        let (b0, b1) = (&nodes2[bn[0] as usize].rss, &nodes2[bn[1] as usize].rss);
+        let bounds = lanes.bounds([a0, a1], [b0, b1], &rot12, trans12);
         // Pushed last first, so that the first child pair is visited first.
         for &k in used.iter().rev() {
             if bounds[k] <= slack {
