@@ -16,6 +16,7 @@ tolerance (1e-3 of the bounding radius). Usage: python bench/compare_fcl_ccd.py 
 import argparse
 import statistics
 import time
+import zlib
 
 import numpy as np
 
@@ -125,7 +126,8 @@ def main():
         fm = fcl_model(mesh)
         delta = 1e-3 * mesh.bounding_radius
         for kind, fcl_kind in KINDS.items():
-            rng = np.random.default_rng(hash((name, kind)) % 2**32)
+            # A stable seed per cell (Python's str hash changes from run to run).
+            rng = np.random.default_rng(zlib.crc32(f"{name}/{kind}".encode()))
             qs = queries(mesh, kind, n_through, n_near, rng)
             firsts = [oracle(mesh, mo) for mo, _, _ in qs]
             methods = {
