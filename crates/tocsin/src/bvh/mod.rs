@@ -14,6 +14,58 @@ pub use rss::Rss;
 pub(crate) use rss::{rss_separation, ASide, BSide, RelativeRss};
 pub(crate) use rss4::Lanes4;
 
+/// The child pairs of expanding the node pair `(n1, n2)` when not both are leaves: each
+/// internal node of the two is split, so the pairs are the product of two nodes per side (a leaf
+/// stands for itself, twice). Lane `2 i + j` of a 4-lane bound pairs `a[i]` with `b[j]`;
+/// `lanes` lists the distinct pairs. Shared by the distance search and `collide`.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Expansion {
+    pub a: [u32; 2],
+    pub b: [u32; 2],
+    pub lanes: &'static [usize],
+}
+
+impl Expansion {
+    /// The expansion of `(n1, n2)`, or `None` when both are leaves (a triangle pair).
+    #[inline]
+    pub(crate) fn of(nodes1: &[Node], n1: u32, nodes2: &[Node], n2: u32) -> Option<Self> {
+        let (a, b) = (&nodes1[n1 as usize], &nodes2[n2 as usize]);
+        match (a.is_leaf(), b.is_leaf()) {
+            (true, true) => None,
+            (false, false) => {
+                let ((a1, a2), (b1, b2)) = (a.children(n1), b.children(n2));
+                Some(Self {
+                    a: [a1, a2],
+                    b: [b1, b2],
+                    lanes: &[0, 1, 2, 3],
+                })
+            }
+            (false, true) => {
+                let (a1, a2) = a.children(n1);
+                Some(Self {
+                    a: [a1, a2],
+                    b: [n2, n2],
+                    lanes: &[0, 2],
+                })
+            }
+            (true, false) => {
+                let (b1, b2) = b.children(n2);
+                Some(Self {
+                    a: [n1, n1],
+                    b: [b1, b2],
+                    lanes: &[0, 1],
+                })
+            }
+        }
+    }
+
+    /// The node pair of lane `k`.
+    #[inline]
+    pub(crate) fn pair(&self, k: usize) -> (u32, u32) {
+        (self.a[k / 2], self.b[k % 2])
+    }
+}
+
 use crate::math::Vec3;
 
 /// One node of the hierarchy.

@@ -13,7 +13,7 @@
 // Lane loops index several arrays at once; that is the shape the vectoriser wants.
 #![allow(clippy::needless_range_loop)]
 
-use super::Rss;
+use super::{Expansion, Node, Rss};
 use crate::math::{Mat3, Vec3};
 
 type L = [f64; 4];
@@ -40,12 +40,30 @@ impl Lanes4 {
         Self { avx2: false }
     }
 
+    /// [`Self::bounds`] of the child pairs of an expansion (`e.a` in `nodes1`, `e.b` in
+    /// `nodes2`); lane `k` bounds `e.pair(k)`.
+    #[inline(always)]
+    pub(crate) fn expansion_bounds(
+        self,
+        e: &Expansion,
+        nodes1: &[Node],
+        nodes2: &[Node],
+        rot12: &Mat3,
+        trans12: Vec3,
+    ) -> L {
+        // Indexed one by one: building the references through an array map stored the two
+        // u32 indices and read them back as one word, a store-forwarding stall.
+        let (a0, a1) = (&nodes1[e.a[0] as usize].rss, &nodes1[e.a[1] as usize].rss);
+        let (b0, b1) = (&nodes2[e.b[0] as usize].rss, &nodes2[e.b[1] as usize].rss);
+        self.bounds([a0, a1], [b0, b1], rot12, trans12)
+    }
+
     /// Lower bounds (0 where they may overlap) on the distances of the four pairs
     /// `(a[i], b[j])` in lane `2 i + j`; `a` in mesh 1's frame, `b` in mesh 2's frame, mapped
     /// into mesh 1's by `rot12`, `trans12`. (An expansion splits one node or both, so its child
     /// pairs always have this shape, with repeats where only one side is split.)
     #[inline(always)]
-    pub(crate) fn bounds(self, a: [&Rss; 2], b: [&Rss; 2], rot12: &Mat3, trans12: Vec3) -> L {
+    fn bounds(self, a: [&Rss; 2], b: [&Rss; 2], rot12: &Mat3, trans12: Vec3) -> L {
         #[cfg(target_arch = "x86_64")]
         if self.avx2 {
             // SAFETY: `bounds_avx2` only needs AVX2, which `detect` found on this CPU.

@@ -5,7 +5,7 @@
 //! separating axis shows a positive gap (beyond a rounding slack, so touching is never
 //! skipped). Leaves use [`intersect_triangle_triangle`]. No OBB is kept: see ARCHITECTURE.md.
 
-use crate::bvh::{rss_separation, Lanes4, RelativeRss, Rss};
+use crate::bvh::{rss_separation, Expansion, Lanes4, RelativeRss, Rss};
 use crate::math::Pose;
 use crate::mesh::TriMesh;
 use crate::query::distance::intersect_triangle_triangle;
@@ -79,44 +79,26 @@ fn traverse(
     let lanes = Lanes4::detect();
     let mut stack: Vec<(u32, u32)> = vec![(0, 0)];
     while let Some((n1, n2)) = stack.pop() {
-        let (a, b) = (&nodes1[n1 as usize], &nodes2[n2 as usize]);
-        if a.is_leaf() && b.is_leaf() {
-            let t1 = &bvh1.leaf_triangles()[a.leaf_position() as usize];
-            let t2 = bvh2.leaf_triangles()[b.leaf_position() as usize].map(|p| rot12 * p + trans12);
+        let Some(e) = Expansion::of(nodes1, n1, nodes2, n2) else {
+            let (l1, l2) = (
+                nodes1[n1 as usize].leaf_position(),
+                nodes2[n2 as usize].leaf_position(),
+            );
+            let t1 = &bvh1.leaf_triangles()[l1 as usize];
+            let t2 = bvh2.leaf_triangles()[l2 as usize].map(|p| rot12 * p + trans12);
             if intersect_triangle_triangle(t1, &t2)
-                && !on_pair(
-                    bvh1.triangle_index(a.leaf_position()),
-                    bvh2.triangle_index(b.leaf_position()),
-                )
+                && !on_pair(bvh1.triangle_index(l1), bvh2.triangle_index(l2))
             {
                 return;
             }
             continue;
-        }
-        // Two internal nodes are split together: four child pairs, one 4-lane bound. Lane
-        // 2 i + j pairs an[i] with bn[j]; with one internal node, half the lanes repeat.
-        const ALL: &[usize] = &[0, 1, 2, 3];
-        let (an, bn, used): ([u32; 2], [u32; 2], &[usize]) = match (a.is_leaf(), b.is_leaf()) {
-            (false, false) => {
-                let ((a1, a2), (b1, b2)) = (a.children(n1), b.children(n2));
-                ([a1, a2], [b1, b2], ALL)
-            }
-            (false, _) => {
-                let (a1, a2) = a.children(n1);
-                ([a1, a2], [n2, n2], &[0, 2])
-            }
-            _ => {
-                let (b1, b2) = b.children(n2);
-                ([n1, n1], [b1, b2], &[0, 1])
-            }
         };
-        let (a0, a1) = (&nodes1[an[0] as usize].rss, &nodes1[an[1] as usize].rss);
-        let (b0, b1) = (&nodes2[bn[0] as usize].rss, &nodes2[bn[1] as usize].rss);
-        let bounds = lanes.bounds([a0, a1], [b0, b1], &rot12, trans12);
+        // Two internal nodes are split together: four child pairs, one 4-lane bound.
+        let bounds = lanes.expansion_bounds(&e, nodes1, nodes2, &rot12, trans12);
         // Pushed last first, so that the first child pair is visited first.
-        for &k in used.iter().rev() {
+        for &k in e.lanes.iter().rev() {
             if bounds[k] <= slack {
-                stack.push((an[k / 2], bn[k % 2]));
+                stack.push(e.pair(k));
             }
         }
     }

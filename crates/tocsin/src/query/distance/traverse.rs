@@ -17,7 +17,7 @@
 
 use super::distance_triangle_triangle::distance_triangle_triangle;
 use super::{DistanceOptions, DistanceResult};
-use crate::bvh::{rss_separation, Bvh, Lanes4, RelativeRss};
+use crate::bvh::{rss_separation, Bvh, Expansion, Lanes4, RelativeRss};
 use crate::math::{Mat3, Pose, Vec3};
 use crate::mesh::TriMesh;
 use std::collections::BinaryHeap;
@@ -246,39 +246,25 @@ impl<'a> DistanceSearch<'a> {
     /// best. Two internal nodes are split together: four child pairs, one 4-lane bound.
     fn expand(&mut self, n1: u32, n2: u32, to_heap: bool) -> bool {
         let (nodes1, nodes2) = (self.bvh1.nodes(), self.bvh2.nodes());
-        let (a, b) = (&nodes1[n1 as usize], &nodes2[n2 as usize]);
-        // Lane 2 i + j pairs an[i] with bn[j]; with one internal node, half the lanes repeat.
-        const ALL: &[usize] = &[0, 1, 2, 3];
-        let (an, bn, used): ([u32; 2], [u32; 2], &[usize]) = match (a.is_leaf(), b.is_leaf()) {
-            (true, true) => {
-                self.leaf_pair(a.leaf_position(), b.leaf_position());
-                return true;
-            }
-            (false, false) => {
-                let ((a1, a2), (b1, b2)) = (a.children(n1), b.children(n2));
-                ([a1, a2], [b1, b2], ALL)
-            }
-            (false, true) => {
-                let (a1, a2) = a.children(n1);
-                ([a1, a2], [n2, n2], &[0, 2])
-            }
-            (true, false) => {
-                let (b1, b2) = b.children(n2);
-                ([n1, n1], [b1, b2], &[0, 1])
-            }
+        let Some(e) = Expansion::of(nodes1, n1, nodes2, n2) else {
+            let (l1, l2) = (
+                nodes1[n1 as usize].leaf_position(),
+                nodes2[n2 as usize].leaf_position(),
+            );
+            self.leaf_pair(l1, l2);
+            return true;
         };
-        let (a0, a1) = (&nodes1[an[0] as usize].rss, &nodes1[an[1] as usize].rss);
-        let (b0, b1) = (&nodes2[bn[0] as usize].rss, &nodes2[bn[1] as usize].rss);
         let bounds = self
             .lanes
-            .bounds([a0, a1], [b0, b1], &self.rot12, self.trans12);
+            .expansion_bounds(&e, nodes1, nodes2, &self.rot12, self.trans12);
         let cutoff = self.cutoff();
         let mut queued = [(0u32, 0u32, 0.0f64); 4];
         let mut m = 0;
-        for &k in used {
+        for &k in e.lanes {
             let lb = bounds[k] - self.slack;
             if lb < cutoff {
-                queued[m] = (an[k / 2], bn[k % 2], lb);
+                let (c1, c2) = e.pair(k);
+                queued[m] = (c1, c2, lb);
                 m += 1;
             }
         }
