@@ -12,6 +12,11 @@ use parry3d_f64::shape::TriMesh as ParryMesh;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::time::Instant;
+
+// The same seeded directions as the contact-time bench, from the same helper.
+#[path = "../../../crates/tocsin/benches/common/mod.rs"]
+mod common;
+use common::unit;
 use tocsin::{mesh, time_of_contact, ContactOptions, Mat3, Motion, Pose as TPose, TriMesh, Vec3};
 
 fn to_parry(m: &TriMesh) -> ParryMesh {
@@ -35,19 +40,6 @@ fn glam_quat(r: &Mat3) -> parry3d_f64::math::Rotation {
     let c = r.to_cols_array();
     let m = parry3d_f64::math::Matrix::from_cols_array(&c);
     parry3d_f64::math::Rotation::from_mat3(&m)
-}
-
-fn unit(rng: &mut ChaCha8Rng) -> Vec3 {
-    loop {
-        let v = Vec3::new(
-            rng.random_range(-1.0..1.0),
-            rng.random_range(-1.0..1.0),
-            rng.random_range(-1.0..1.0),
-        );
-        if v.length() > 0.2 && v.length() <= 1.0 {
-            return v.normalize();
-        }
-    }
 }
 
 fn main() {
