@@ -113,13 +113,8 @@ mod tests {
     /// The closed form agrees with Jacobi on the axes (up to sign) for distinct eigenvalues.
     #[test]
     fn closed_form_matches_jacobi() {
-        let mut seed = 7u64;
-        let mut next = || {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        };
+        let mut g = crate::bvh::TestRng(7);
+        let mut next = || g.next() - 0.5;
         for _ in 0..1000 {
             let pts: Vec<Vec3> = (0..5)
                 .map(|_| Vec3::new(next(), 0.3 * next(), 0.05 * next()))

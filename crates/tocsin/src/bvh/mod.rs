@@ -10,6 +10,21 @@ mod eigen;
 mod rss;
 mod rss4;
 
+/// A small seeded generator for the unit tests of the hierarchy (uniform in [0, 1)).
+#[cfg(test)]
+pub(crate) struct TestRng(pub u64);
+
+#[cfg(test)]
+impl TestRng {
+    pub(crate) fn next(&mut self) -> f64 {
+        self.0 = self
+            .0
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (self.0 >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
 pub use rss::Rss;
 pub(crate) use rss::{rss_separation, ASide, BSide, RelativeRss};
 pub(crate) use rss4::Lanes4;

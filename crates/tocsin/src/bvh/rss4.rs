@@ -274,16 +274,10 @@ mod tests {
     use super::*;
     use crate::bvh::{rss_separation, RelativeRss};
 
-    /// A small seeded generator (no dev-dependency needed in unit tests).
-    struct Lcg(u64);
+    // The hierarchy's seeded test generator, with helpers for random volumes added here.
+    use crate::bvh::TestRng as Lcg;
+
     impl Lcg {
-        fn next(&mut self) -> f64 {
-            self.0 = self
-                .0
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (self.0 >> 11) as f64 / (1u64 << 53) as f64
-        }
         fn unit(&mut self) -> Vec3 {
             loop {
                 let v = Vec3::new(self.next(), self.next(), self.next()) * 2.0 - Vec3::ONE;
