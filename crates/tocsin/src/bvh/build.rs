@@ -28,12 +28,16 @@ pub(super) fn build(vertices: &[Vec3], triangles: &[[u32; 3]]) -> Bvh {
             radius: 0.0,
         },
         right: 0,
-        leaf: 0,
+        first: 0,
+        count: 0,
     };
     let mut nodes = vec![placeholder; 2 * triangles.len() - 1];
     build_subtree(&mut corners, &mut ids, &mut nodes, 0, 0);
+    let column = |k: usize| corners.iter().flatten().map(|p| p[k]).collect();
+    let corner_columns = [column(0), column(1), column(2)];
     Bvh {
         nodes,
+        corner_columns,
         leaf_corners: corners,
         leaf_ids: ids,
     }
@@ -56,7 +60,8 @@ fn build_subtree(
         nodes[0] = Node {
             rss,
             right: 0,
-            leaf: offset as u32,
+            first: offset as u32,
+            count: 1,
         };
         return;
     }
@@ -78,7 +83,8 @@ fn build_subtree(
     nodes[0] = Node {
         rss,
         right: right as u32,
-        leaf: 0,
+        first: offset as u32,
+        count: n as u32,
     };
     let (left_nodes, right_nodes) = nodes[1..].split_at_mut(2 * n_left - 1);
     let (left_corners, right_corners) = corners.split_at_mut(n_left);

@@ -9,6 +9,8 @@ mod build;
 mod eigen;
 mod rss;
 mod rss4;
+#[cfg(target_arch = "x86_64")]
+mod rss4_avx2;
 
 /// A small seeded generator for the unit tests of the hierarchy (uniform in [0, 1)).
 #[cfg(test)]
@@ -27,7 +29,7 @@ impl TestRng {
 
 pub use rss::Rss;
 pub(crate) use rss::{rss_separation, ASide, BSide, RelativeRss};
-pub(crate) use rss4::Lanes4;
+pub(crate) use rss4::{LaneBounds, Lanes4};
 
 /// The child pairs of expanding the node pair `(n1, n2)` when not both are leaves: each
 /// internal node of the two is split, so the pairs are the product of two nodes per side (a leaf
@@ -90,8 +92,11 @@ pub struct Node {
     pub rss: Rss,
     /// Index of the right child, or 0 for a leaf (the root is never a right child).
     right: u32,
-    /// For a leaf: the position of its triangle in leaf order.
-    leaf: u32,
+    /// Leaf position of the subtree's first triangle (for a leaf, its own triangle's).
+    first: u32,
+    /// Number of triangles in the subtree (1 for a leaf); they are the leaf positions from
+    /// `first`.
+    count: u32,
 }
 
 impl Node {
@@ -110,7 +115,13 @@ impl Node {
     /// For a leaf, the position of its triangle in [`Bvh::leaf_triangles`].
     #[inline]
     pub fn leaf_position(&self) -> u32 {
-        self.leaf
+        self.first
+    }
+
+    /// The leaf positions of the subtree's triangles (in [`Bvh::leaf_triangles`]).
+    #[inline]
+    pub fn leaf_range(&self) -> std::ops::Range<usize> {
+        self.first as usize..(self.first + self.count) as usize
     }
 }
 
@@ -120,6 +131,9 @@ pub struct Bvh {
     nodes: Vec<Node>,
     /// Corners of the triangles in leaf order (mesh frame).
     leaf_corners: Vec<[Vec3; 3]>,
+    /// The same corners by coordinate (x, y, z columns; corner `j` of leaf position `i` at
+    /// `3 i + j`), for projecting a subtree's corners on an axis in vector lanes.
+    corner_columns: [Vec<f64>; 3],
     /// Original index of each triangle in leaf order.
     leaf_ids: Vec<u32>,
 }
@@ -144,6 +158,15 @@ impl Bvh {
     /// The triangles' corners in leaf order (mesh frame).
     pub fn leaf_triangles(&self) -> &[[Vec3; 3]] {
         &self.leaf_corners
+    }
+
+    /// The x, y and z coordinates of the corners of the triangles at the leaf positions
+    /// `range`, three corners per triangle (mesh frame).
+    #[inline]
+    pub fn corner_columns(&self, range: std::ops::Range<usize>) -> [&[f64]; 3] {
+        let r = 3 * range.start..3 * range.end;
+        let [x, y, z] = &self.corner_columns;
+        [&x[r.clone()], &y[r.clone()], &z[r]]
     }
 
     /// The original triangle index of the triangle at leaf position `position`.

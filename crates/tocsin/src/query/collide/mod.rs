@@ -94,7 +94,9 @@ fn traverse(
             continue;
         };
         // Two internal nodes are split together: four child pairs, one 4-lane bound.
-        let bounds = lanes.expansion_bounds(&e, nodes1, nodes2, &rot12, trans12);
+        let bounds = lanes
+            .expansion_bounds(&e, nodes1, nodes2, &rot12, trans12)
+            .gap;
         // Pushed last first, so that the first child pair is visited first.
         for &k in e.lanes.iter().rev() {
             if bounds[k] <= slack {

@@ -1,0 +1,191 @@
+//! The 4-lane bound of [`super::rss4`] written with AVX2 and FMA intrinsics.
+//!
+//! The portable lane loops leave the vectorising to the compiler, which packs unrelated
+//! operations into 2-lane registers and spills; here each `__m256d` is one quantity over the
+//! four pairs. Same axes and the same formulas as `rss_separation4`; fused multiply-adds round
+//! differently, so the lanes agree with the portable path to rounding, not bit for bit.
+
+use super::{LaneBounds, Rss};
+use crate::math::{Mat3, Vec3};
+use std::arch::x86_64::*;
+
+/// Lower bounds on the distances of the pairs `(a[i], b[j])` in lane `2 i + j` (0 where they
+/// may overlap); `a` in mesh 1's frame, `b` in mesh 2's, mapped into mesh 1's by `rot12`,
+/// `trans12`. Needs a CPU with AVX2 and FMA.
+#[target_feature(enable = "avx2,fma")]
+pub(super) fn bounds(a: [&Rss; 2], b: [&Rss; 2], rot12: &Mat3, trans12: Vec3) -> LaneBounds {
+    // a's volume i in lanes 2i and 2i + 1, b's volume j in lanes j and j + 2.
+    let sa = |f: fn(&Rss) -> f64| {
+        let (x, y) = (f(a[0]), f(a[1]));
+        _mm256_setr_pd(x, x, y, y)
+    };
+    let sb = |f: fn(&Rss) -> f64| {
+        let (x, y) = (f(b[0]), f(b[1]));
+        _mm256_setr_pd(x, y, x, y)
+    };
+    let ax: [[__m256d; 3]; 3] = [
+        [
+            sa(|r| r.axes.x_axis.x),
+            sa(|r| r.axes.x_axis.y),
+            sa(|r| r.axes.x_axis.z),
+        ],
+        [
+            sa(|r| r.axes.y_axis.x),
+            sa(|r| r.axes.y_axis.y),
+            sa(|r| r.axes.y_axis.z),
+        ],
+        [
+            sa(|r| r.axes.z_axis.x),
+            sa(|r| r.axes.z_axis.y),
+            sa(|r| r.axes.z_axis.z),
+        ],
+    ];
+    let braw: [[__m256d; 3]; 3] = [
+        [
+            sb(|r| r.axes.x_axis.x),
+            sb(|r| r.axes.x_axis.y),
+            sb(|r| r.axes.x_axis.z),
+        ],
+        [
+            sb(|r| r.axes.y_axis.x),
+            sb(|r| r.axes.y_axis.y),
+            sb(|r| r.axes.y_axis.z),
+        ],
+        [
+            sb(|r| r.axes.z_axis.x),
+            sb(|r| r.axes.z_axis.y),
+            sb(|r| r.axes.z_axis.z),
+        ],
+    ];
+    let bc_raw = [sb(|r| r.center.x), sb(|r| r.center.y), sb(|r| r.center.z)];
+    let ac = [sa(|r| r.center.x), sa(|r| r.center.y), sa(|r| r.center.z)];
+    // b carried into mesh 1's frame: m(i, k) is entry (i, k) of rot12.
+    let m = |i: usize, k: usize| _mm256_set1_pd(rot12.col(k)[i]);
+    let carry = |v: &[__m256d; 3], i: usize| {
+        _mm256_fmadd_pd(
+            m(i, 2),
+            v[2],
+            _mm256_fmadd_pd(m(i, 1), v[1], _mm256_mul_pd(m(i, 0), v[0])),
+        )
+    };
+    let bx: [[__m256d; 3]; 3] = [0, 1, 2].map(|c| [0, 1, 2].map(|i| carry(&braw[c], i)));
+    let tr = [trans12.x, trans12.y, trans12.z];
+    let d: [__m256d; 3] = [0, 1, 2].map(|i| {
+        _mm256_sub_pd(
+            _mm256_add_pd(carry(&bc_raw, i), _mm256_set1_pd(tr[i])),
+            ac[i],
+        )
+    });
+    let dot = |u: &[__m256d; 3], v: &[__m256d; 3]| {
+        _mm256_fmadd_pd(
+            u[2],
+            v[2],
+            _mm256_fmadd_pd(u[1], v[1], _mm256_mul_pd(u[0], v[0])),
+        )
+    };
+    // r[i][j] = a_i . b_j; t = b's centre in a's frame.
+    let r: [[__m256d; 3]; 3] = [0, 1, 2].map(|i| [0, 1, 2].map(|j| dot(&ax[i], &bx[j])));
+    let t = [dot(&ax[0], &d), dot(&ax[1], &d), dot(&ax[2], &d)];
+    let sign = _mm256_set1_pd(-0.0);
+    let abs = |x: __m256d| _mm256_andnot_pd(sign, x);
+    let neg = |x: __m256d| _mm256_xor_pd(sign, x);
+    // c - a * b
+    let fnma = |x: __m256d, y: __m256d, c: __m256d| _mm256_fnmadd_pd(x, y, c);
+    let (la0, la1) = (sa(|r| r.half_lengths[0]), sa(|r| r.half_lengths[1]));
+    let (lb0, lb1) = (sb(|r| r.half_lengths[0]), sb(|r| r.half_lengths[1]));
+    // The two normals (unit axes).
+    let bt2 = dot(&[r[0][2], r[1][2], r[2][2]], &t);
+    let normal_a = fnma(lb1, abs(r[2][1]), fnma(lb0, abs(r[2][0]), abs(t[2])));
+    let normal_b = fnma(la1, abs(r[1][2]), fnma(la0, abs(r[0][2]), abs(bt2)));
+    // The near-points axis, as in `rss_separation4`.
+    let clamp = |x: __m256d, l: __m256d| _mm256_min_pd(_mm256_max_pd(x, neg(l)), l);
+    let pa = [clamp(t[0], la0), clamp(t[1], la1)];
+    let q = [
+        _mm256_sub_pd(pa[0], t[0]),
+        _mm256_sub_pd(pa[1], t[1]),
+        neg(t[2]),
+    ];
+    let in_b = |j: usize| dot(&[r[0][j], r[1][j], r[2][j]], &q);
+    let pbl = [clamp(in_b(0), lb0), clamp(in_b(1), lb1)];
+    let pb: [__m256d; 3] =
+        [0, 1, 2].map(|i| _mm256_fmadd_pd(r[i][1], pbl[1], _mm256_fmadd_pd(r[i][0], pbl[0], t[i])));
+    let u = [
+        _mm256_sub_pd(pb[0], clamp(pb[0], la0)),
+        _mm256_sub_pd(pb[1], clamp(pb[1], la1)),
+        pb[2],
+    ];
+    let u_dot_b = |j: usize| dot(&u, &[r[0][j], r[1][j], r[2][j]]);
+    let gap_a = fnma(la1, abs(u[1]), fnma(la0, abs(u[0]), abs(dot(&u, &t))));
+    let gap_u = fnma(lb1, abs(u_dot_b(1)), fnma(lb0, abs(u_dot_b(0)), gap_a));
+    let ul2 = _mm256_max_pd(dot(&u, &u), _mm256_set1_pd(f64::MIN_POSITIVE));
+    let inv = _mm256_div_pd(_mm256_set1_pd(1.0), _mm256_sqrt_pd(ul2));
+    let near = _mm256_mul_pd(gap_u, inv);
+    let g = _mm256_max_pd(_mm256_max_pd(normal_a, normal_b), near);
+    let radii = _mm256_add_pd(sa(|r| r.radius), sb(|r| r.radius));
+    let gap = _mm256_max_pd(_mm256_sub_pd(g, radii), _mm256_setzero_pd());
+    // The near-points axis in mesh 1's frame, unit length.
+    let axis: [__m256d; 3] = [0, 1, 2].map(|i| {
+        _mm256_mul_pd(
+            _mm256_fmadd_pd(
+                ax[2][i],
+                u[2],
+                _mm256_fmadd_pd(ax[1][i], u[1], _mm256_mul_pd(ax[0][i], u[0])),
+            ),
+            inv,
+        )
+    });
+    LaneBounds {
+        gap: lanes(gap),
+        axis: [lanes(axis[0]), lanes(axis[1]), lanes(axis[2])],
+    }
+}
+
+/// The four lanes as an array.
+#[target_feature(enable = "avx2")]
+fn lanes(v: __m256d) -> [f64; 4] {
+    let (lo, hi) = (_mm256_castpd256_pd128(v), _mm256_extractf128_pd::<1>(v));
+    [
+        _mm_cvtsd_f64(lo),
+        _mm_cvtsd_f64(_mm_unpackhi_pd(lo, lo)),
+        _mm_cvtsd_f64(hi),
+        _mm_cvtsd_f64(_mm_unpackhi_pd(hi, hi)),
+    ]
+}
+
+/// [`super::rss4::extent_along`] in AVX2 lanes: the smallest and largest `u . p` over the
+/// points given by coordinate columns.
+#[target_feature(enable = "avx2,fma")]
+pub(super) fn extent_along(columns: [&[f64]; 3], u: Vec3) -> (f64, f64) {
+    let [x, y, z] = columns;
+    let (ux, uy, uz) = (
+        _mm256_set1_pd(u.x),
+        _mm256_set1_pd(u.y),
+        _mm256_set1_pd(u.z),
+    );
+    let mut lo = _mm256_set1_pd(f64::INFINITY);
+    let mut hi = _mm256_set1_pd(f64::NEG_INFINITY);
+    let (xs, ys, zs) = (x.chunks_exact(4), y.chunks_exact(4), z.chunks_exact(4));
+    let tail = xs.remainder().len();
+    let load = |c: &[f64]| _mm256_setr_pd(c[0], c[1], c[2], c[3]);
+    for ((x, y), z) in xs.zip(ys).zip(zs) {
+        let v = _mm256_fmadd_pd(
+            load(z),
+            uz,
+            _mm256_fmadd_pd(load(y), uy, _mm256_mul_pd(load(x), ux)),
+        );
+        lo = _mm256_min_pd(lo, v);
+        hi = _mm256_max_pd(hi, v);
+    }
+    let (lo, hi) = (lanes(lo), lanes(hi));
+    let (mut lo, mut hi) = (
+        lo[0].min(lo[1]).min(lo[2].min(lo[3])),
+        hi[0].max(hi[1]).max(hi[2].max(hi[3])),
+    );
+    let n = x.len();
+    for i in n - tail..n {
+        let v = x[i] * u.x + y[i] * u.y + z[i] * u.z;
+        lo = lo.min(v);
+        hi = hi.max(v);
+    }
+    (lo, hi)
+}
