@@ -8,7 +8,7 @@
 //! result does not depend on the thread count.
 
 use super::eigen::principal_axes;
-use super::{Bvh, Node, Rss};
+use super::{Bvh, CornerColumns, Node, Rss};
 use crate::math::Vec3;
 
 /// Subtrees with fewer triangles than this are built on the current thread.
@@ -33,8 +33,7 @@ pub(super) fn build(vertices: &[Vec3], triangles: &[[u32; 3]]) -> Bvh {
     };
     let mut nodes = vec![placeholder; 2 * triangles.len() - 1];
     build_subtree(&mut corners, &mut ids, &mut nodes, 0, 0);
-    let column = |k: usize| corners.iter().flatten().map(|p| p[k]).collect();
-    let corner_columns = [column(0), column(1), column(2)];
+    let corner_columns = CornerColumns::new(&corners, nodes[0].rss.center);
     Bvh {
         nodes,
         corner_columns,

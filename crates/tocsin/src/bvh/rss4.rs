@@ -74,9 +74,10 @@ impl Lanes4 {
         self.bounds([a0, a1], [b0, b1], rot12, trans12)
     }
 
-    /// The smallest and largest `u . p` over the points `p` given by coordinate columns.
+    /// The smallest and largest `u . p` over the points `p` given by `f32` coordinate columns,
+    /// computed in `f32` (see [`super::CornerColumns::error`] for the rounding).
     #[inline]
-    pub(crate) fn extent_along(self, columns: [&[f64]; 3], u: Vec3) -> (f64, f64) {
+    pub(crate) fn extent_along(self, columns: [&[f32]; 3], u: Vec3) -> (f64, f64) {
         #[cfg(target_arch = "x86_64")]
         if self.avx2 {
             // SAFETY: needs AVX2 and FMA, which `detect` found on this CPU.
@@ -296,32 +297,32 @@ fn rss_separation4(a: &Side4, b: &Side4) -> LaneBounds {
     }
 }
 
-/// The smallest and largest `u . p` over the points `p` given by coordinate columns (lanes of
-/// four, so that the compiler vectorises it).
+/// The smallest and largest `u . p` over the points `p` given by `f32` coordinate columns, in
+/// `f32` lanes of eight (which the compiler vectorises).
 #[inline]
-fn extent_along(columns: [&[f64]; 3], u: Vec3) -> (f64, f64) {
+fn extent_along(columns: [&[f32]; 3], u: Vec3) -> (f64, f64) {
     let [x, y, z] = columns;
-    let mut lo = [f64::INFINITY; 4];
-    let mut hi = [f64::NEG_INFINITY; 4];
-    let (xs, ys, zs) = (x.chunks_exact(4), y.chunks_exact(4), z.chunks_exact(4));
+    let (ux, uy, uz) = (u.x as f32, u.y as f32, u.z as f32);
+    let mut lo = [f32::INFINITY; 8];
+    let mut hi = [f32::NEG_INFINITY; 8];
+    let (xs, ys, zs) = (x.chunks_exact(8), y.chunks_exact(8), z.chunks_exact(8));
     let tail = xs.remainder().len();
     for ((x, y), z) in xs.zip(ys).zip(zs) {
-        for l in 0..4 {
-            let v = x[l] * u.x + y[l] * u.y + z[l] * u.z;
+        for l in 0..8 {
+            let v = z[l].mul_add(uz, y[l].mul_add(uy, x[l] * ux));
             lo[l] = if v < lo[l] { v } else { lo[l] };
             hi[l] = if v > hi[l] { v } else { hi[l] };
         }
     }
     let n = x.len();
     for i in n - tail..n {
-        let v = x[i] * u.x + y[i] * u.y + z[i] * u.z;
+        let v = z[i].mul_add(uz, y[i].mul_add(uy, x[i] * ux));
         lo[0] = lo[0].min(v);
         hi[0] = hi[0].max(v);
     }
-    (
-        lo[0].min(lo[1]).min(lo[2].min(lo[3])),
-        hi[0].max(hi[1]).max(hi[2].max(hi[3])),
-    )
+    let lo = lo.iter().fold(f32::INFINITY, |m, &v| m.min(v));
+    let hi = hi.iter().fold(f32::NEG_INFINITY, |m, &v| m.max(v));
+    (f64::from(lo), f64::from(hi))
 }
 
 #[cfg(test)]
@@ -490,22 +491,69 @@ mod tests {
     fn extent_along_matches_a_plain_loop() {
         let mut g = Lcg(14);
         for n in 1..40 {
-            let cols: [Vec<f64>; 3] =
-                [0, 1, 2].map(|_| (0..n).map(|_| (g.next() - 0.5) * 1e3).collect());
+            let cols: [Vec<f32>; 3] =
+                [0, 1, 2].map(|_| (0..n).map(|_| ((g.next() - 0.5) * 1e3) as f32).collect());
             let u = g.unit();
             let dots: Vec<f64> = (0..n)
-                .map(|i| Vec3::new(cols[0][i], cols[1][i], cols[2][i]).dot(u))
+                .map(|i| {
+                    let p = Vec3::new(cols[0][i].into(), cols[1][i].into(), cols[2][i].into());
+                    p.dot(u)
+                })
                 .collect();
             let lo = dots.iter().copied().fold(f64::INFINITY, f64::min);
             let hi = dots.iter().copied().fold(f64::NEG_INFINITY, f64::max);
             let columns = [&cols[0][..], &cols[1][..], &cols[2][..]];
+            // Within the rounding bound of `CornerColumns::error` (coordinates up to 866 from 0).
+            let err = 4e-7 * 866.0;
             for lanes in [Lanes4::baseline(), Lanes4::detect()] {
                 let (l, h) = lanes.extent_along(columns, u);
-                assert!(
-                    (l - lo).abs() <= 1e-12 && (h - hi).abs() <= 1e-12,
-                    "n = {n}"
-                );
+                assert!((l - lo).abs() <= err && (h - hi).abs() <= err, "n = {n}");
             }
         }
+    }
+
+    /// A projection from the `f32` columns, moved back by the origin, is within the columns'
+    /// stated error of the projection of the `f64` corners, at small, large and off-centre
+    /// scales; past `1e30` there are no columns.
+    #[test]
+    fn corner_columns_stay_within_their_error() {
+        use crate::bvh::CornerColumns;
+        let mut g = Lcg(15);
+        for (scale, offset) in [
+            (1e-3, 0.0),
+            (1.0, 0.0),
+            (1e3, 0.0),
+            (1e-3, 1e4),
+            (1.0, -1e4),
+        ] {
+            let corners: Vec<[Vec3; 3]> = (0..50)
+                .map(|_| {
+                    [0, 1, 2].map(|_| {
+                        let p = Vec3::new(g.next(), g.next(), g.next()) - 0.5;
+                        p * scale + Vec3::splat(offset)
+                    })
+                })
+                .collect();
+            let origin = corners[7][1];
+            let c = CornerColumns::new(&corners, origin);
+            assert!(c.is_some(), "no columns at scale {scale}");
+            let Some(c) = c else { return };
+            for _ in 0..50 {
+                let u = g.unit();
+                let dots = corners.iter().flatten().map(|p| u.dot(*p));
+                let lo = dots.clone().fold(f64::INFINITY, f64::min);
+                let hi = dots.fold(f64::NEG_INFINITY, f64::max);
+                for lanes in [Lanes4::baseline(), Lanes4::detect()] {
+                    let (l, h) = lanes.extent_along(c.columns(0..corners.len()), u);
+                    let (l, h) = (l + u.dot(origin), h + u.dot(origin));
+                    // The f64 sums carry their own rounding (the search's slack covers it).
+                    let slack = 1e-15 * (offset.abs() + scale);
+                    assert!((l - lo).abs() <= c.error + slack, "{l} vs {lo}");
+                    assert!((h - hi).abs() <= c.error + slack, "{h} vs {hi}");
+                }
+            }
+        }
+        let far = [[Vec3::ZERO, Vec3::X, Vec3::splat(1e31)]];
+        assert!(CornerColumns::new(&far, Vec3::ZERO).is_none());
     }
 }

@@ -153,39 +153,46 @@ fn lanes(v: __m256d) -> [f64; 4] {
 }
 
 /// [`super::rss4::extent_along`] in AVX2 lanes: the smallest and largest `u . p` over the
-/// points given by coordinate columns.
+/// points given by `f32` coordinate columns, eight per instruction.
 #[target_feature(enable = "avx2,fma")]
-pub(super) fn extent_along(columns: [&[f64]; 3], u: Vec3) -> (f64, f64) {
+pub(super) fn extent_along(columns: [&[f32]; 3], u: Vec3) -> (f64, f64) {
     let [x, y, z] = columns;
-    let (ux, uy, uz) = (
-        _mm256_set1_pd(u.x),
-        _mm256_set1_pd(u.y),
-        _mm256_set1_pd(u.z),
-    );
-    let mut lo = _mm256_set1_pd(f64::INFINITY);
-    let mut hi = _mm256_set1_pd(f64::NEG_INFINITY);
-    let (xs, ys, zs) = (x.chunks_exact(4), y.chunks_exact(4), z.chunks_exact(4));
+    let (ux, uy, uz) = (u.x as f32, u.y as f32, u.z as f32);
+    let (vx, vy, vz) = (_mm256_set1_ps(ux), _mm256_set1_ps(uy), _mm256_set1_ps(uz));
+    let mut lo = _mm256_set1_ps(f32::INFINITY);
+    let mut hi = _mm256_set1_ps(f32::NEG_INFINITY);
+    let (xs, ys, zs) = (x.chunks_exact(8), y.chunks_exact(8), z.chunks_exact(8));
     let tail = xs.remainder().len();
-    let load = |c: &[f64]| _mm256_setr_pd(c[0], c[1], c[2], c[3]);
-    for ((x, y), z) in xs.zip(ys).zip(zs) {
-        let v = _mm256_fmadd_pd(
-            load(z),
-            uz,
-            _mm256_fmadd_pd(load(y), uy, _mm256_mul_pd(load(x), ux)),
-        );
-        lo = _mm256_min_pd(lo, v);
-        hi = _mm256_max_pd(hi, v);
+    // (A macro: a closure is not inlined into a function with target features.)
+    macro_rules! load {
+        ($c:expr) => {{
+            let c: &[f32] = $c;
+            _mm256_setr_ps(c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7])
+        }};
     }
-    let (lo, hi) = (lanes(lo), lanes(hi));
-    let (mut lo, mut hi) = (
-        lo[0].min(lo[1]).min(lo[2].min(lo[3])),
-        hi[0].max(hi[1]).max(hi[2].max(hi[3])),
-    );
+    for ((x, y), z) in xs.zip(ys).zip(zs) {
+        let v = _mm256_fmadd_ps(
+            load!(z),
+            vz,
+            _mm256_fmadd_ps(load!(y), vy, _mm256_mul_ps(load!(x), vx)),
+        );
+        lo = _mm256_min_ps(lo, v);
+        hi = _mm256_max_ps(hi, v);
+    }
+    // Fold eight lanes to one.
+    macro_rules! fold {
+        ($v:expr, $op:ident) => {{
+            let h = $op(_mm256_castps256_ps128($v), _mm256_extractf128_ps::<1>($v));
+            let h = $op(h, _mm_movehl_ps(h, h));
+            _mm_cvtss_f32($op(h, _mm_shuffle_ps::<1>(h, h)))
+        }};
+    }
+    let (mut lo, mut hi) = (fold!(lo, _mm_min_ps), fold!(hi, _mm_max_ps));
     let n = x.len();
     for i in n - tail..n {
-        let v = x[i] * u.x + y[i] * u.y + z[i] * u.z;
+        let v = z[i].mul_add(uz, y[i].mul_add(uy, x[i] * ux));
         lo = lo.min(v);
         hi = hi.max(v);
     }
-    (lo, hi)
+    (f64::from(lo), f64::from(hi))
 }

@@ -200,16 +200,22 @@ impl<'a> DistanceSearch<'a> {
     /// A lower bound on the distance between the triangles of two small subtrees: their
     /// corners projected on `axis` (unit, mesh 1's frame; the near-points axis of their
     /// volumes). The volumes' rectangles overhang their triangles (a triangle fills half of its
-    /// rectangle), so the corners themselves are often farther apart along that axis.
+    /// rectangle), so the corners themselves are often farther apart along that axis. Computed
+    /// from the `f32` corner columns, less their rounding bound; `NEG_INFINITY` for meshes
+    /// without columns.
     fn projected_gap(&self, a: &Node, b: &Node, axis: Vec3) -> f64 {
-        let (lo1, hi1) = self
-            .lanes
-            .extent_along(self.bvh1.corner_columns(a.leaf_range()), axis);
-        let (lo2, hi2) = self
-            .lanes
-            .extent_along(self.bvh2.corner_columns(b.leaf_range()), self.rot21 * axis);
-        let offset = axis.dot(self.trans12);
-        (lo2 + offset - hi1).max(lo1 - hi2 - offset)
+        let (Some(c1), Some(c2)) = (self.bvh1.corner_columns(), self.bvh2.corner_columns()) else {
+            return f64::NEG_INFINITY;
+        };
+        let axis2 = self.rot21 * axis;
+        let (lo1, hi1) = self.lanes.extent_along(c1.columns(a.leaf_range()), axis);
+        let (lo2, hi2) = self.lanes.extent_along(c2.columns(b.leaf_range()), axis2);
+        // The columns are relative to their origins; mesh 2's is carried into mesh 1's frame.
+        let (o1, o2) = (
+            axis.dot(c1.origin),
+            axis2.dot(c2.origin) + axis.dot(self.trans12),
+        );
+        (lo2 + o2 - hi1 - o1).max(lo1 + o1 - hi2 - o2) - (c1.error + c2.error)
     }
 
     fn leaf_pair(&mut self, leaf1: u32, leaf2: u32) {
