@@ -33,7 +33,10 @@ pub(super) fn build(vertices: &[Vec3], triangles: &[[u32; 3]]) -> Bvh {
     };
     let mut nodes = vec![placeholder; 2 * triangles.len() - 1];
     build_subtree(&mut corners, &mut ids, &mut nodes, 0, 0);
-    let corner_columns = CornerColumns::new(&corners, nodes[0].rss.center);
+    let mut corner_columns = CornerColumns::new(&corners, nodes[0].rss.center);
+    if let Some(c) = corner_columns.as_mut() {
+        c.add_distinct(&nodes, &ids, vertices, triangles);
+    }
     Bvh {
         nodes,
         corner_columns,

@@ -556,4 +556,32 @@ mod tests {
         let far = [[Vec3::ZERO, Vec3::X, Vec3::splat(1e31)]];
         assert!(CornerColumns::new(&far, Vec3::ZERO).is_none());
     }
+
+    /// The points kept for a subtree (distinct vertices or corners) are exactly its corners'
+    /// positions, and the distinct vertices are used where they save corners.
+    #[test]
+    fn subtree_points_are_its_corners() {
+        use crate::bvh::PROJECT_MAX;
+        use std::collections::HashSet;
+        let knot = crate::mesh::torus_knot(60, 8).unwrap_or_else(|e| unreachable!("{e}"));
+        let bvh = knot.bvh();
+        let c = bvh.corner_columns();
+        assert!(c.is_some(), "no columns");
+        let Some(c) = c else { return };
+        let key =
+            |cols: [&[f32]; 3], i: usize| [cols[0][i], cols[1][i], cols[2][i]].map(f32::to_bits);
+        let mut used = 0;
+        for (i, node) in bvh.nodes().iter().enumerate() {
+            if node.leaf_range().len() > PROJECT_MAX {
+                continue;
+            }
+            let corners = c.columns(node.leaf_range());
+            let points = c.points(i as u32, node);
+            let want: HashSet<_> = (0..corners[0].len()).map(|k| key(corners, k)).collect();
+            let got: HashSet<_> = (0..points[0].len()).map(|k| key(points, k)).collect();
+            assert_eq!(want, got, "node {i}");
+            used += usize::from(points[0].len() < corners[0].len());
+        }
+        assert!(used > 10, "distinct vertices used for {used} subtrees");
+    }
 }

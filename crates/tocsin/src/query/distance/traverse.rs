@@ -24,7 +24,7 @@
 
 use super::distance_triangle_triangle::distance_triangle_triangle;
 use super::{DistanceOptions, DistanceResult};
-use crate::bvh::{rss_separation, Bvh, Expansion, Lanes4, Node, RelativeRss};
+use crate::bvh::{rss_separation, Bvh, Expansion, Lanes4, Node, RelativeRss, PROJECT_MAX};
 use crate::math::{Mat3, Pose, Vec3};
 use crate::mesh::TriMesh;
 use std::collections::BinaryHeap;
@@ -53,13 +53,6 @@ pub(crate) struct Best {
 /// 2048 2% more; with no cap (switch at the first triangle pair only) the 1R poses took 20%
 /// longer.
 const HEAP_CAP: usize = 1024;
-
-/// Child pairs whose subtrees both hold at most this many triangles are also bounded by
-/// [`DistanceSearch::projected_gap`]. Measured on the knot34k workload of
-/// `examples/profile_distance.rs` (0.01 / 0.1 / 1 R, microseconds, this machine's noise is
-/// about 5%): 16: 56 / 68 / 90; 32: 50 / 64 / 81; 64: 53 / 59 / 74; 128: 55 / 55 / 63;
-/// 256: 70 / 63 / 77; 1024: 98 / 80 / 74 (projecting large subtrees costs more than it prunes).
-const PROJECT_MAX: usize = 128;
 
 pub(crate) struct DistanceSearch<'a> {
     bvh1: &'a Bvh,
@@ -203,13 +196,13 @@ impl<'a> DistanceSearch<'a> {
     /// rectangle), so the corners themselves are often farther apart along that axis. Computed
     /// from the `f32` corner columns, less their rounding bound; `NEG_INFINITY` for meshes
     /// without columns.
-    fn projected_gap(&self, a: &Node, b: &Node, axis: Vec3) -> f64 {
+    fn projected_gap(&self, (i, a): (u32, &Node), (j, b): (u32, &Node), axis: Vec3) -> f64 {
         let (Some(c1), Some(c2)) = (self.bvh1.corner_columns(), self.bvh2.corner_columns()) else {
             return f64::NEG_INFINITY;
         };
         let axis2 = self.rot21 * axis;
-        let (lo1, hi1) = self.lanes.extent_along(c1.columns(a.leaf_range()), axis);
-        let (lo2, hi2) = self.lanes.extent_along(c2.columns(b.leaf_range()), axis2);
+        let (lo1, hi1) = self.lanes.extent_along(c1.points(i, a), axis);
+        let (lo2, hi2) = self.lanes.extent_along(c2.points(j, b), axis2);
         // The columns are relative to their origins; mesh 2's is carried into mesh 1's frame.
         let (o1, o2) = (
             axis.dot(c1.origin),
@@ -310,7 +303,7 @@ impl<'a> DistanceSearch<'a> {
                     && b.leaf_range().len() <= PROJECT_MAX
                 {
                     let axis = Vec3::new(bounds.axis[0][k], bounds.axis[1][k], bounds.axis[2][k]);
-                    lb = lb.max(self.projected_gap(a, b, axis) - self.slack);
+                    lb = lb.max(self.projected_gap((c1, a), (c2, b), axis) - self.slack);
                     if lb >= cutoff {
                         continue;
                     }
