@@ -56,9 +56,10 @@ fn build_subtree(
     offset: usize,
 ) {
     let n = corners.len();
-    let (mean, cov) = mean_covariance(corners);
     if n == 1 {
-        let rss = Rss::fit(principal_axes(cov), corners[0].into_iter());
+        let axes = triangle_axes(&corners[0])
+            .unwrap_or_else(|| principal_axes(mean_covariance(corners).1));
+        let rss = Rss::fit(axes, corners[0].into_iter());
         nodes[0] = Node {
             rss,
             right: 0,
@@ -67,6 +68,7 @@ fn build_subtree(
         };
         return;
     }
+    let (mean, cov) = mean_covariance(corners);
     // The closed form everywhere (Jacobi only where the largest eigenvalue repeats): on the
     // 1M-triangle knot it builds in 0.81 s instead of 0.92 s with Jacobi at internal nodes,
     // and the distance searches on knot34k visit the same number of pairs.
@@ -107,6 +109,27 @@ fn build_subtree(
         left();
         right();
     }
+}
+
+/// A leaf's frame: the longest edge, the in-plane perpendicular, the normal. The rectangle
+/// along the longest edge is the smallest around a triangle (twice its area: the feet of the
+/// other corner's altitude fall on that edge), where principal axes gave 2.13 times on
+/// average on the knots, and it needs no eigenvalues. `None` for a triangle without area.
+fn triangle_axes(t: &[Vec3; 3]) -> Option<crate::math::Mat3> {
+    let edges = [t[1] - t[0], t[2] - t[1], t[0] - t[2]];
+    let longest = edges
+        .into_iter()
+        .max_by(|a, b| a.length_squared().total_cmp(&b.length_squared()))?;
+    let normal = edges[0].cross(edges[1]);
+    let (area2, edge2) = (normal.length(), longest.length_squared());
+    // Area well above rounding at this edge length, else the normal is noise; coordinates
+    // near f64's range may overflow here, and then the principal axes (which scale) decide.
+    if !area2.is_finite() || !edge2.is_finite() || area2 <= 1e-12 * edge2 {
+        return None;
+    }
+    let x = longest.normalize();
+    let z = normal.normalize();
+    Some(crate::math::Mat3::from_cols(x, z.cross(x), z))
 }
 
 /// In-place partition of `corners` and `ids` together: moves the triangles satisfying `pred`
