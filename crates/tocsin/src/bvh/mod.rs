@@ -238,43 +238,44 @@ impl CornerColumns {
     /// Adds the distinct vertices of the subtrees of more than [`DISTINCT_MIN`] and at most
     /// [`PROJECT_MAX`] triangles (`ids`: original triangle index per leaf position), where
     /// that saves at least a third of their corners (a soup without shared vertices saves
-    /// nothing). The vertices are the corners' own positions, so the error bound holds.
-    pub(crate) fn add_distinct(
-        &mut self,
-        nodes: &[Node],
-        ids: &[u32],
-        vertices: &[Vec3],
-        triangles: &[[u32; 3]],
-    ) {
+    /// nothing). The vertices are copied from the corner columns, so the error bound holds.
+    pub(crate) fn add_distinct(&mut self, nodes: &[Node], ids: &[u32], triangles: &[[u32; 3]]) {
         use rayon::prelude::*;
-        // The triangles' vertex indices in leaf order, read in order below (one gather here).
+        // The triangles' vertex indices in leaf order (one gather here), read in order below
+        // next to the corner columns, which already hold the vertices' coordinates.
         let leaf_triangles: Vec<[u32; 3]> = ids.iter().map(|&id| triangles[id as usize]).collect();
+        let vertex_count = triangles
+            .iter()
+            .flatten()
+            .max()
+            .map_or(0, |&v| v as usize + 1);
         let eligible: Vec<u32> = (0..nodes.len() as u32)
             .filter(|&i| {
                 (DISTINCT_MIN + 1..=PROJECT_MAX).contains(&(nodes[i as usize].count as usize))
             })
             .collect();
         // In parallel over runs of nodes, each with its own marks; then concatenated in order.
-        let run = eligible
-            .len()
-            .div_ceil(4 * rayon::current_num_threads())
-            .max(1);
+        let run = eligible.len().div_ceil(rayon::current_num_threads()).max(1);
+        let columns = &self.columns;
         let parts: Vec<(Vec<(u32, u32)>, Columns)> = eligible
             .par_chunks(run)
             .map(|chunk| {
-                let mut seen = vec![u32::MAX; vertices.len()];
-                let mut points: Columns = [Vec::new(), Vec::new(), Vec::new()];
+                let mut seen = vec![u32::MAX; vertex_count];
+                let room: usize = chunk
+                    .iter()
+                    .map(|&i| 3 * nodes[i as usize].count as usize)
+                    .sum();
+                let mut points: Columns = [0, 1, 2].map(|_| Vec::with_capacity(room));
                 let mut ranges = Vec::with_capacity(chunk.len());
                 for &i in chunk {
                     let node = &nodes[i as usize];
                     let start = points[0].len();
-                    for &t in &leaf_triangles[node.leaf_range()] {
-                        for v in t {
+                    for p in node.leaf_range() {
+                        for (j, v) in leaf_triangles[p].into_iter().enumerate() {
                             if seen[v as usize] != i {
                                 seen[v as usize] = i;
-                                let p = vertices[v as usize] - self.origin;
                                 for k in 0..3 {
-                                    points[k].push(p[k] as f32);
+                                    points[k].push(columns[k][3 * p + j]);
                                 }
                             }
                         }
@@ -290,6 +291,10 @@ impl CornerColumns {
             })
             .collect();
         self.distinct_ranges = vec![[0, 0]; nodes.len()];
+        let total: usize = parts.iter().map(|(_, p)| p[0].len()).sum();
+        self.distinct
+            .iter_mut()
+            .for_each(|c| c.reserve_exact(total));
         for (ranges, points) in parts {
             let base = self.distinct[0].len() as u32;
             let total = points[0].len() as u32;
