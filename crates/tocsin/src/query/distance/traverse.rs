@@ -6,8 +6,12 @@
 //! `2 slack = 2e-13` of the scene's scale: pairs tied with the best (parallel faces of CAD
 //! models) are not all visited.
 //!
-//! Order: best-first (smallest bound first, a binary heap) until the first triangle pair has
-//! been evaluated or [`HEAP_CAP`] pairs wait, which finds a close upper bound early; then the
+//! Order: first a greedy dive from the roots to one triangle pair (into the child pair of
+//! smallest bound, ties to the nearest centres), so that the cutoff is finite from the start
+//! (without it, three quarters of the corner projections below were made against an infinite
+//! cutoff, before the first triangle pair; the dive takes 9% of the instructions off the
+//! knot34k workload). Then best-first (smallest bound first, a binary heap) until a triangle
+//! pair has been evaluated or [`HEAP_CAP`] pairs wait, which finds a close upper bound; then the
 //! waiting pairs in queue order, each searched depth-first, nearest child first, which keeps
 //! node accesses local and the queue small. Measured on knot34k at random poses, the
 //! best-first start halves the node pairs of a plain depth-first search (8% above the
@@ -238,6 +242,9 @@ impl<'a> DistanceSearch<'a> {
         }
         self.stack.clear();
         self.heap.clear();
+        if self.best.distance == f64::INFINITY {
+            self.dive();
+        }
         let (root1, root2) = (&self.bvh1.nodes()[0].rss, &self.bvh2.nodes()[0].rss);
         let lb = self.bound(
             0,
@@ -270,6 +277,40 @@ impl<'a> DistanceSearch<'a> {
             }
         }
         self.heap.clear();
+    }
+
+    /// A first triangle pair, for a finite cutoff from the start: from the roots down, always
+    /// into the child pair of smallest bound (one expansion per level).
+    fn dive(&mut self) {
+        let (nodes1, nodes2) = (self.bvh1.nodes(), self.bvh2.nodes());
+        let (mut n1, mut n2) = (0, 0);
+        while let Some(e) = Expansion::of(nodes1, n1, nodes2, n2) {
+            let bounds = self
+                .lanes
+                .expansion_bounds(&e, nodes1, nodes2, &self.rot12, self.trans12);
+            // Ties (volumes that overlap, bound 0) go to the pair with the nearest centres.
+            let key = |k: usize| {
+                let (c1, c2) = e.pair(k);
+                let (a, b) = (&nodes1[c1 as usize].rss, &nodes2[c2 as usize].rss);
+                let centres = (a.center - (self.rot12 * b.center + self.trans12)).length_squared();
+                (bounds.gap[k], centres)
+            };
+            let k = e
+                .lanes
+                .iter()
+                .copied()
+                .min_by(|&i, &j| {
+                    let (ki, kj) = (key(i), key(j));
+                    ki.0.total_cmp(&kj.0).then(ki.1.total_cmp(&kj.1))
+                })
+                .unwrap_or(0);
+            (n1, n2) = e.pair(k);
+        }
+        let (l1, l2) = (
+            nodes1[n1 as usize].leaf_position(),
+            nodes2[n2 as usize].leaf_position(),
+        );
+        self.leaf_pair(l1, l2);
     }
 
     /// Evaluates the pair `(n1, n2)`: the triangle pair of two leaves (returns true), or the
