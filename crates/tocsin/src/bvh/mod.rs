@@ -175,10 +175,12 @@ impl Bvh {
 
 /// Child pairs whose subtrees both hold at most this many triangles are also bounded, in the
 /// distance search, by projecting their corners. Measured on the knot34k workload of
-/// `examples/profile_distance.rs` (0.01 / 0.1 / 1 R, microseconds, this machine's noise is
-/// about 5%): 16: 56 / 68 / 90; 32: 50 / 64 / 81; 64: 53 / 59 / 74; 128: 55 / 55 / 63;
-/// 256: 70 / 63 / 77; 1024: 98 / 80 / 74 (projecting large subtrees costs more than it prunes).
-pub(crate) const PROJECT_MAX: usize = 128;
+/// `examples/profile_distance.rs`, in instructions of the searches (callgrind; timings on
+/// this machine are noisy): 64: 1,062M; 128: 905M; 256: 821M; 512: 772M. Interleaved timings
+/// (minimum of 5, 0.01 / 0.1 / 1 R, us) put 256 ahead of 128 (47 / 41 / 36 against
+/// 45 / 46 / 47) and gave 512 no clear gain at 0.01 R, where the larger projections prune
+/// least; before the greedy dive, 256 had been slower than 128 at 0.01 R.
+pub(crate) const PROJECT_MAX: usize = 256;
 
 /// Three coordinate columns.
 type Columns = [Vec<f32>; 3];
