@@ -157,27 +157,51 @@ fn lanes(v: __m256d) -> [f64; 4] {
 #[target_feature(enable = "avx2,fma")]
 pub(super) fn extent_along(columns: [&[f32]; 3], u: Vec3) -> (f64, f64) {
     let [x, y, z] = columns;
-    let (ux, uy, uz) = (u.x as f32, u.y as f32, u.z as f32);
-    let (vx, vy, vz) = (_mm256_set1_ps(ux), _mm256_set1_ps(uy), _mm256_set1_ps(uz));
+    let n = x.len().min(y.len()).min(z.len());
+    if n == 0 {
+        return (f64::INFINITY, f64::NEG_INFINITY);
+    }
+    let (vx, vy, vz) = (
+        _mm256_set1_ps(u.x as f32),
+        _mm256_set1_ps(u.y as f32),
+        _mm256_set1_ps(u.z as f32),
+    );
     let mut lo = _mm256_set1_ps(f32::INFINITY);
     let mut hi = _mm256_set1_ps(f32::NEG_INFINITY);
-    let (xs, ys, zs) = (x.chunks_exact(8), y.chunks_exact(8), z.chunks_exact(8));
-    let tail = xs.remainder().len();
-    // (A macro: a closure is not inlined into a function with target features.)
+    // Eight points from index `$s`; fewer than eight in all are padded with the last one.
+    // (Macros: a closure is not inlined into a function with target features.)
     macro_rules! load {
-        ($c:expr) => {{
-            let c: &[f32] = $c;
+        ($c:expr, $s:expr) => {{
+            let c: &[f32] = &$c[$s..$s + 8];
             _mm256_setr_ps(c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7])
         }};
     }
-    for ((x, y), z) in xs.zip(ys).zip(zs) {
-        let v = _mm256_fmadd_ps(
-            load!(z),
-            vz,
-            _mm256_fmadd_ps(load!(y), vy, _mm256_mul_ps(load!(x), vx)),
-        );
-        lo = _mm256_min_ps(lo, v);
-        hi = _mm256_max_ps(hi, v);
+    macro_rules! load_short {
+        ($c:expr) => {{
+            let at = |k: usize| $c[k.min(n - 1)];
+            _mm256_setr_ps(at(0), at(1), at(2), at(3), at(4), at(5), at(6), at(7))
+        }};
+    }
+    macro_rules! step {
+        ($x:expr, $y:expr, $z:expr) => {{
+            let v = _mm256_fmadd_ps($z, vz, _mm256_fmadd_ps($y, vy, _mm256_mul_ps($x, vx)));
+            lo = _mm256_min_ps(lo, v);
+            hi = _mm256_max_ps(hi, v);
+        }};
+    }
+    if n < 8 {
+        step!(load_short!(x), load_short!(y), load_short!(z));
+    } else {
+        let mut s = 0;
+        while s + 8 <= n {
+            step!(load!(x, s), load!(y, s), load!(z, s));
+            s += 8;
+        }
+        // The rest: the last eight again (min and max do not mind the overlap).
+        if s < n {
+            let s = n - 8;
+            step!(load!(x, s), load!(y, s), load!(z, s));
+        }
     }
     // Fold eight lanes to one.
     macro_rules! fold {
@@ -187,12 +211,8 @@ pub(super) fn extent_along(columns: [&[f32]; 3], u: Vec3) -> (f64, f64) {
             _mm_cvtss_f32($op(h, _mm_shuffle_ps::<1>(h, h)))
         }};
     }
-    let (mut lo, mut hi) = (fold!(lo, _mm_min_ps), fold!(hi, _mm_max_ps));
-    let n = x.len();
-    for i in n - tail..n {
-        let v = z[i].mul_add(uz, y[i].mul_add(uy, x[i] * ux));
-        lo = lo.min(v);
-        hi = hi.max(v);
-    }
-    (f64::from(lo), f64::from(hi))
+    (
+        f64::from(fold!(lo, _mm_min_ps)),
+        f64::from(fold!(hi, _mm_max_ps)),
+    )
 }
