@@ -35,7 +35,7 @@ pub(super) fn build(vertices: &[Vec3], triangles: &[[u32; 3]]) -> Bvh {
     build_subtree(&mut corners, &mut ids, &mut nodes, 0, 0);
     let mut corner_columns = CornerColumns::new(&corners, nodes[0].rss.center);
     if let Some(c) = corner_columns.as_mut() {
-        c.add_distinct(&nodes, &ids, triangles);
+        c.add_distinct(&nodes, &ids, triangles, vertices.len());
     }
     Bvh {
         nodes,

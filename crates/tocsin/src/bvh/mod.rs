@@ -238,19 +238,21 @@ impl CornerColumns {
     }
 
     /// Adds the distinct vertices of the subtrees of more than [`DISTINCT_MIN`] and at most
-    /// [`PROJECT_MAX`] triangles (`ids`: original triangle index per leaf position), where
+    /// [`PROJECT_MAX`] triangles (`ids`: original triangle index per leaf position; indices in
+    /// `triangles` below `vertex_count`), where
     /// that saves at least a third of their corners (a soup without shared vertices saves
     /// nothing). The vertices are copied from the corner columns, so the error bound holds.
-    pub(crate) fn add_distinct(&mut self, nodes: &[Node], ids: &[u32], triangles: &[[u32; 3]]) {
+    pub(crate) fn add_distinct(
+        &mut self,
+        nodes: &[Node],
+        ids: &[u32],
+        triangles: &[[u32; 3]],
+        vertex_count: usize,
+    ) {
         use rayon::prelude::*;
         // The triangles' vertex indices in leaf order (one gather here), read in order below
         // next to the corner columns, which already hold the vertices' coordinates.
         let leaf_triangles: Vec<[u32; 3]> = ids.iter().map(|&id| triangles[id as usize]).collect();
-        let vertex_count = triangles
-            .iter()
-            .flatten()
-            .max()
-            .map_or(0, |&v| v as usize + 1);
         let eligible: Vec<u32> = (0..nodes.len() as u32)
             .filter(|&i| {
                 (DISTINCT_MIN + 1..=PROJECT_MAX).contains(&(nodes[i as usize].count as usize))
@@ -316,9 +318,7 @@ impl CornerColumns {
     pub(crate) fn points(&self, index: u32, node: &Node) -> [&[f32]; 3] {
         match self.distinct_ranges.get(index as usize) {
             Some(&[start, len]) if len > 0 => {
-                let r = start as usize..(start + len) as usize;
-                let [x, y, z] = &self.distinct;
-                [&x[r.clone()], &y[r.clone()], &z[r]]
+                rows(&self.distinct, start as usize..(start + len) as usize)
             }
             _ => self.columns(node.leaf_range()),
         }
@@ -327,8 +327,13 @@ impl CornerColumns {
     /// The x, y and z columns of the corners of the triangles at the leaf positions `range`.
     #[inline]
     pub(crate) fn columns(&self, range: std::ops::Range<usize>) -> [&[f32]; 3] {
-        let r = 3 * range.start..3 * range.end;
-        let [x, y, z] = &self.columns;
-        [&x[r.clone()], &y[r.clone()], &z[r]]
+        rows(&self.columns, 3 * range.start..3 * range.end)
     }
+}
+
+/// The entries `range` of each of three columns.
+#[inline]
+fn rows(columns: &Columns, range: std::ops::Range<usize>) -> [&[f32]; 3] {
+    let [x, y, z] = columns;
+    [&x[range.clone()], &y[range.clone()], &z[range]]
 }

@@ -10,9 +10,9 @@
 //! Two paths, chosen at run time by [`Lanes4`]: a portable one written as loops over
 //! `[f64; 4]`, and, on x86-64 CPUs with AVX2 and FMA, the same formulas in intrinsics
 //! (`rss4_avx2`). Left to itself the compiler packed the portable loops into 2-lane registers
-//! and spilled; the intrinsics version is 340 instructions per call and made the knot34k
-//! distance searches 12 to 15% faster. The two paths agree to rounding (fused multiply-adds),
-//! not bit for bit.
+//! and spilled; the intrinsics version was 340 instructions per call (386 since it also
+//! returns the axes) and made the knot34k distance searches 12 to 15% faster. The two paths
+//! agree to rounding (fused multiply-adds), not bit for bit.
 
 // Lane loops index several arrays at once; that is the shape the vectoriser wants.
 #![allow(clippy::needless_range_loop)]

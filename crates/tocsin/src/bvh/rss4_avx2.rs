@@ -24,40 +24,30 @@ pub(super) fn bounds(a: [&Rss; 2], b: [&Rss; 2], rot12: &Mat3, trans12: Vec3) ->
         let (x, y) = (f(b[0]), f(b[1]));
         _mm256_setr_pd(x, y, x, y)
     };
-    let ax: [[__m256d; 3]; 3] = [
-        [
-            sa(|r| r.axes.x_axis.x),
-            sa(|r| r.axes.x_axis.y),
-            sa(|r| r.axes.x_axis.z),
-        ],
-        [
-            sa(|r| r.axes.y_axis.x),
-            sa(|r| r.axes.y_axis.y),
-            sa(|r| r.axes.y_axis.z),
-        ],
-        [
-            sa(|r| r.axes.z_axis.x),
-            sa(|r| r.axes.z_axis.y),
-            sa(|r| r.axes.z_axis.z),
-        ],
-    ];
-    let braw: [[__m256d; 3]; 3] = [
-        [
-            sb(|r| r.axes.x_axis.x),
-            sb(|r| r.axes.x_axis.y),
-            sb(|r| r.axes.x_axis.z),
-        ],
-        [
-            sb(|r| r.axes.y_axis.x),
-            sb(|r| r.axes.y_axis.y),
-            sb(|r| r.axes.y_axis.z),
-        ],
-        [
-            sb(|r| r.axes.z_axis.x),
-            sb(|r| r.axes.z_axis.y),
-            sb(|r| r.axes.z_axis.z),
-        ],
-    ];
+    // The volumes' axes as lanes of one side: `[c][i]` is component `i` of axis `c`.
+    macro_rules! axes {
+        ($side:ident) => {
+            [
+                [
+                    $side(|r| r.axes.x_axis.x),
+                    $side(|r| r.axes.x_axis.y),
+                    $side(|r| r.axes.x_axis.z),
+                ],
+                [
+                    $side(|r| r.axes.y_axis.x),
+                    $side(|r| r.axes.y_axis.y),
+                    $side(|r| r.axes.y_axis.z),
+                ],
+                [
+                    $side(|r| r.axes.z_axis.x),
+                    $side(|r| r.axes.z_axis.y),
+                    $side(|r| r.axes.z_axis.z),
+                ],
+            ]
+        };
+    }
+    let ax: [[__m256d; 3]; 3] = axes!(sa);
+    let braw: [[__m256d; 3]; 3] = axes!(sb);
     let bc_raw = [sb(|r| r.center.x), sb(|r| r.center.y), sb(|r| r.center.z)];
     let ac = [sa(|r| r.center.x), sa(|r| r.center.y), sa(|r| r.center.z)];
     // b carried into mesh 1's frame: m(i, k) is entry (i, k) of rot12.
