@@ -74,17 +74,18 @@ impl Lanes4 {
         self.bounds([a0, a1], [b0, b1], rot12, trans12)
     }
 
-    /// The smallest and largest `u . p` over the points `p` given by `f32` coordinate columns,
-    /// computed in `f32` (see [`super::CornerColumns::error`] for the rounding).
+    /// The largest `u . p` over the points `p` given by `f32` coordinate columns (the support
+    /// function; the smallest is `-max_along(columns, -u)`), computed in `f32` (see
+    /// [`super::CornerColumns::error`] for the rounding); `NEG_INFINITY` for no points.
     #[inline]
-    pub(crate) fn extent_along(self, columns: [&[f32]; 3], u: Vec3) -> (f64, f64) {
+    pub(crate) fn max_along(self, columns: [&[f32]; 3], u: Vec3) -> f64 {
         #[cfg(target_arch = "x86_64")]
         if self.avx2 {
             // SAFETY: needs AVX2 and FMA, which `detect` found on this CPU.
             #[allow(unsafe_code)]
-            return unsafe { super::rss4_avx2::extent_along(columns, u) };
+            return unsafe { super::rss4_avx2::max_along(columns, u) };
         }
-        extent_along(columns, u)
+        max_along(columns, u)
     }
 
     /// Lower bounds (0 where they may overlap) on the distances of the four pairs
@@ -297,32 +298,26 @@ fn rss_separation4(a: &Side4, b: &Side4) -> LaneBounds {
     }
 }
 
-/// The smallest and largest `u . p` over the points `p` given by `f32` coordinate columns, in
-/// `f32` lanes of eight (which the compiler vectorises).
+/// The largest `u . p` over the points `p` given by `f32` coordinate columns, in `f32` lanes
+/// of eight (which the compiler vectorises).
 #[inline]
-fn extent_along(columns: [&[f32]; 3], u: Vec3) -> (f64, f64) {
+fn max_along(columns: [&[f32]; 3], u: Vec3) -> f64 {
     let [x, y, z] = columns;
     let (ux, uy, uz) = (u.x as f32, u.y as f32, u.z as f32);
-    let mut lo = [f32::INFINITY; 8];
     let mut hi = [f32::NEG_INFINITY; 8];
     let (xs, ys, zs) = (x.chunks_exact(8), y.chunks_exact(8), z.chunks_exact(8));
     let tail = xs.remainder().len();
     for ((x, y), z) in xs.zip(ys).zip(zs) {
         for l in 0..8 {
             let v = z[l].mul_add(uz, y[l].mul_add(uy, x[l] * ux));
-            lo[l] = if v < lo[l] { v } else { lo[l] };
             hi[l] = if v > hi[l] { v } else { hi[l] };
         }
     }
     let n = x.len();
     for i in n - tail..n {
-        let v = z[i].mul_add(uz, y[i].mul_add(uy, x[i] * ux));
-        lo[0] = lo[0].min(v);
-        hi[0] = hi[0].max(v);
+        hi[0] = hi[0].max(z[i].mul_add(uz, y[i].mul_add(uy, x[i] * ux)));
     }
-    let lo = lo.iter().fold(f32::INFINITY, |m, &v| m.min(v));
-    let hi = hi.iter().fold(f32::NEG_INFINITY, |m, &v| m.max(v));
-    (f64::from(lo), f64::from(hi))
+    f64::from(hi.iter().fold(f32::NEG_INFINITY, |m, &v| m.max(v)))
 }
 
 #[cfg(test)]
@@ -486,9 +481,9 @@ mod tests {
     }
 
     /// Both paths of the projection give the extent found by a plain loop, for every length
-    /// (the 4-lane body and the tail).
+    /// (the 8-lane body and the tail).
     #[test]
-    fn extent_along_matches_a_plain_loop() {
+    fn max_along_matches_a_plain_loop() {
         let mut g = Lcg(14);
         for n in 1..40 {
             let cols: [Vec<f32>; 3] =
@@ -506,7 +501,7 @@ mod tests {
             // Within the rounding bound of `CornerColumns::error` (coordinates up to 866 from 0).
             let err = 4e-7 * 866.0;
             for lanes in [Lanes4::baseline(), Lanes4::detect()] {
-                let (l, h) = lanes.extent_along(columns, u);
+                let (l, h) = (-lanes.max_along(columns, -u), lanes.max_along(columns, u));
                 assert!((l - lo).abs() <= err && (h - hi).abs() <= err, "n = {n}");
             }
         }
@@ -544,7 +539,8 @@ mod tests {
                 let lo = dots.clone().fold(f64::INFINITY, f64::min);
                 let hi = dots.fold(f64::NEG_INFINITY, f64::max);
                 for lanes in [Lanes4::baseline(), Lanes4::detect()] {
-                    let (l, h) = lanes.extent_along(c.columns(0..corners.len()), u);
+                    let columns = c.columns(0..corners.len());
+                    let (l, h) = (-lanes.max_along(columns, -u), lanes.max_along(columns, u));
                     let (l, h) = (l + u.dot(origin), h + u.dot(origin));
                     // The f64 sums carry their own rounding (the search's slack covers it).
                     let slack = 1e-15 * (offset.abs() + scale);

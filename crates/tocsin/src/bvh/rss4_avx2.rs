@@ -143,21 +143,20 @@ fn lanes(v: __m256d) -> [f64; 4] {
     ]
 }
 
-/// [`super::rss4::extent_along`] in AVX2 lanes: the smallest and largest `u . p` over the
-/// points given by `f32` coordinate columns, eight per instruction.
+/// [`super::rss4::max_along`] in AVX2 lanes: the largest `u . p` over the points given by
+/// `f32` coordinate columns, eight per instruction.
 #[target_feature(enable = "avx2,fma")]
-pub(super) fn extent_along(columns: [&[f32]; 3], u: Vec3) -> (f64, f64) {
+pub(super) fn max_along(columns: [&[f32]; 3], u: Vec3) -> f64 {
     let [x, y, z] = columns;
     let n = x.len().min(y.len()).min(z.len());
     if n == 0 {
-        return (f64::INFINITY, f64::NEG_INFINITY);
+        return f64::NEG_INFINITY;
     }
     let (vx, vy, vz) = (
         _mm256_set1_ps(u.x as f32),
         _mm256_set1_ps(u.y as f32),
         _mm256_set1_ps(u.z as f32),
     );
-    let mut lo = _mm256_set1_ps(f32::INFINITY);
     let mut hi = _mm256_set1_ps(f32::NEG_INFINITY);
     // Eight points from index `$s`; fewer than eight in all are padded with the last one.
     // (Macros: written as a closure, the load was compiled as a call per load, 5x slower.)
@@ -176,7 +175,6 @@ pub(super) fn extent_along(columns: [&[f32]; 3], u: Vec3) -> (f64, f64) {
     macro_rules! step {
         ($x:expr, $y:expr, $z:expr) => {{
             let v = _mm256_fmadd_ps($z, vz, _mm256_fmadd_ps($y, vy, _mm256_mul_ps($x, vx)));
-            lo = _mm256_min_ps(lo, v);
             hi = _mm256_max_ps(hi, v);
         }};
     }
@@ -188,22 +186,14 @@ pub(super) fn extent_along(columns: [&[f32]; 3], u: Vec3) -> (f64, f64) {
             step!(load!(x, s), load!(y, s), load!(z, s));
             s += 8;
         }
-        // The rest: the last eight again (min and max do not mind the overlap).
+        // The rest: the last eight again (the maximum does not mind the overlap).
         if s < n {
             let s = n - 8;
             step!(load!(x, s), load!(y, s), load!(z, s));
         }
     }
     // Fold eight lanes to one.
-    macro_rules! fold {
-        ($v:expr, $op:ident) => {{
-            let h = $op(_mm256_castps256_ps128($v), _mm256_extractf128_ps::<1>($v));
-            let h = $op(h, _mm_movehl_ps(h, h));
-            _mm_cvtss_f32($op(h, _mm_shuffle_ps::<1>(h, h)))
-        }};
-    }
-    (
-        f64::from(fold!(lo, _mm_min_ps)),
-        f64::from(fold!(hi, _mm_max_ps)),
-    )
+    let h = _mm_max_ps(_mm256_castps256_ps128(hi), _mm256_extractf128_ps::<1>(hi));
+    let h = _mm_max_ps(h, _mm_movehl_ps(h, h));
+    f64::from(_mm_cvtss_f32(_mm_max_ps(h, _mm_shuffle_ps::<1>(h, h))))
 }
