@@ -82,6 +82,8 @@ pub(crate) struct DistanceSearch<'a> {
     stop: Stop,
     /// Absolute slack subtracted from every bound, covering rounding in the relative transform.
     slack: f64,
+    /// Origin of mesh 2's corner columns less mesh 1's, in mesh 1's frame (zero without them).
+    origins: Vec3,
     best: Best,
     /// [`Self::compute_cutoff`] for the current best.
     cut: f64,
@@ -147,6 +149,10 @@ impl<'a> DistanceSearch<'a> {
             abs: options.absolute_error,
             stop,
             slack: 1e-13 * scale,
+            origins: match (mesh1.bvh().corner_columns(), mesh2.bvh().corner_columns()) {
+                (Some(c1), Some(c2)) => pos12.transform_point(c2.origin) - c1.origin,
+                _ => Vec3::ZERO,
+            },
             best: Best {
                 distance: f64::INFINITY,
                 point1: Vec3::ZERO,
@@ -226,15 +232,10 @@ impl<'a> DistanceSearch<'a> {
         let (Some(c1), Some(c2)) = (self.bvh1.corner_columns(), self.bvh2.corner_columns()) else {
             return f64::NEG_INFINITY;
         };
-        let axis2 = self.rot21 * axis;
         let hi1 = self.lanes.max_along(c1.points(i, a), axis);
-        let lo2 = -self.lanes.max_along(c2.points(j, b), -axis2);
-        // The columns are relative to their origins; mesh 2's is carried into mesh 1's frame.
-        let (o1, o2) = (
-            axis.dot(c1.origin),
-            axis2.dot(c2.origin) + axis.dot(self.trans12),
-        );
-        lo2 + o2 - hi1 - o1 - (c1.error + c2.error)
+        let lo2 = -self.lanes.max_along(c2.points(j, b), -(self.rot21 * axis));
+        // The columns are relative to their origins: `origins` is mesh 2's less mesh 1's.
+        lo2 - hi1 + axis.dot(self.origins) - (c1.error + c2.error)
     }
 
     /// [`Self::leaf_pair`] of the triangles of two leaf nodes.
