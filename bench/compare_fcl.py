@@ -4,7 +4,7 @@ Distance at separations of 1%, 10% and 100% of the bounding radius, and collide 
 overlapping and near poses; each query timed over repeats (median), in one run, with the
 ratio fcl / tocsin. Distances are checked identical to 1e-9 relative and collide answers equal.
 Models: the torus knots (generated) and real meshes shipped by pybullet_data (bunny, Franka
-Panda link). Usage: python bench/compare_fcl.py [--quick] [--out FILE]
+Panda link). Usage: python bench/compare_fcl.py [--quick] [--out FILE] [--poses-out FILE]
 """
 
 import argparse
@@ -28,13 +28,21 @@ def selected_models(quick):
     return {k: out[k] for k in list(out)[:1]} if quick else out
 
 
-def timed(fn, repeats):
-    samples = []
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        fn()
-        samples.append(time.perf_counter() - t0)
-    return statistics.median(samples)
+def timed_pair(fa, fb, repeats, block=10):
+    """Medians of `repeats` timings of `fa` and of `fb`, taken in alternating blocks of
+    `block` calls, so that a slow spell of this shared machine falls on both sides
+    (python-fcl's median at the same pose moved by up to 2x between runs). Within a block the
+    caches stay warm for that library, as in a loop of queries on one mesh pair; alternating
+    call by call instead made both libraries slower, tocsin up to 3x on knot34k (each flushes
+    the other's hierarchy from the caches)."""
+    sa, sb = [], []
+    while len(sa) < repeats:
+        for fn, samples in ((fa, sa), (fb, sb)):
+            for _ in range(min(block, repeats - len(samples))):
+                t0 = time.perf_counter()
+                fn()
+                samples.append(time.perf_counter() - t0)
+    return statistics.median(sa), statistics.median(sb)
 
 
 def place(mesh, rot, direction, target):
@@ -53,10 +61,14 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--quick", action="store_true", help="one model, few poses (smoke test)")
     ap.add_argument("--out", default="bench/out/fcl.md")
+    ap.add_argument(
+        "--poses-out",
+        help="also write knot34k's distance poses here, for crates/tocsin/examples/profile_poses.rs",
+    )
     args = ap.parse_args()
     rng = np.random.default_rng(2026)
     n_poses, repeats = (2, 5) if args.quick else (8, 30)
-    rows = []
+    rows, knot_poses = [], []
     for name, mesh in selected_models(args.quick).items():
         fm = fcl_model(mesh)
         radius = float(np.linalg.norm(mesh.vertices - mesh.vertices.mean(0), axis=1).max())
@@ -68,13 +80,20 @@ def main():
                 d = rng.normal(size=3)
                 d /= np.linalg.norm(d)
                 p2 = place(mesh, rot, d, frac * radius)
+                if name == "knot34k":
+                    knot_poses.append(f"{frac:g} " + " ".join(repr(float(x)) for x in p2.ravel()))
                 o2 = fcl.CollisionObject(fm, fcl.Transform(p2[:3, :3], p2[:3, 3]))
                 req = fcl.DistanceRequest(enable_nearest_points=True)
                 ours = tocsin.distance(mesh, np.eye(4), mesh, p2).distance
                 theirs = fcl.distance(o1, o2, req, fcl.DistanceResult())
                 worst = max(worst, abs(ours - theirs) / max(abs(theirs), 1e-300))
-                t_ours.append(timed(lambda: tocsin.distance(mesh, np.eye(4), mesh, p2), repeats))
-                t_fcl.append(timed(lambda: fcl.distance(o1, o2, req, fcl.DistanceResult()), repeats))
+                a, b = timed_pair(
+                    lambda: tocsin.distance(mesh, np.eye(4), mesh, p2),
+                    lambda: fcl.distance(o1, o2, req, fcl.DistanceResult()),
+                    repeats,
+                )
+                t_ours.append(a)
+                t_fcl.append(b)
             a, b = statistics.median(t_ours), statistics.median(t_fcl)
             rows.append((name, mesh.num_triangles, f"distance {frac:g}R", a, b, f"{worst:.1e}"))
         for label, frac in (("collide overlap", -1.0), ("collide near 0.01R", 0.01)):
@@ -89,13 +108,19 @@ def main():
                 ours = tocsin.collide(mesh, np.eye(4), mesh, p2)
                 theirs = fcl.collide(o1, o2, creq, fcl.CollisionResult()) > 0
                 agree += ours == theirs
-                t_ours.append(timed(lambda: tocsin.collide(mesh, np.eye(4), mesh, p2), repeats))
-                t_fcl.append(timed(lambda: fcl.collide(o1, o2, creq, fcl.CollisionResult()), repeats))
+                a, b = timed_pair(
+                    lambda: tocsin.collide(mesh, np.eye(4), mesh, p2),
+                    lambda: fcl.collide(o1, o2, creq, fcl.CollisionResult()),
+                    repeats,
+                )
+                t_ours.append(a)
+                t_fcl.append(b)
             a, b = statistics.median(t_ours), statistics.median(t_fcl)
             rows.append((name, mesh.num_triangles, label, a, b, f"{agree}/{n_poses} agree"))
     lines = [
         f"{machine_line()}, python-fcl {getattr(fcl, '__version__', '?')}; "
-        f"median of {n_poses} poses x {repeats} repeats, single thread, through Python for both.",
+        f"median of {n_poses} poses x {repeats} repeats (the libraries alternate every 10 calls), "
+        "single thread, through Python for both.",
         "",
         "| model | triangles | query | tocsin (us) | python-fcl (us) | fcl / tocsin | check |",
         "|---|---:|---|---:|---:|---:|---|",
@@ -103,6 +128,9 @@ def main():
     for name, n, q, a, b, check in rows:
         lines.append(f"| {name} | {n} | {q} | {a * 1e6:.1f} | {b * 1e6:.1f} | {b / a:.2f}x | {check} |")
     write(args.out, "\n".join(lines))
+    if args.poses_out and knot_poses:
+        with open(args.poses_out, "w") as f:
+            f.write("\n".join(knot_poses) + "\n")
 
 
 if __name__ == "__main__":
