@@ -1,6 +1,7 @@
 //! Distance on knot34k at poses read from a file (lines: fraction, then 16 numbers of a
 //! row-major 4x4 pose), printing each pose's best time. For profiling at the exact poses of
-//! `bench/compare_fcl.py`. Usage: `profile_poses FILE [repeats] [only this fraction]`.
+//! `bench/compare_fcl.py`, which writes them with `--poses-out FILE`.
+//! Usage: `profile_poses FILE [repeats] [only this fraction]`.
 use tocsin::{distance, mesh, DistanceOptions, Mat4, Pose};
 
 fn main() {
