@@ -34,7 +34,9 @@
 
 use super::distance_triangle_triangle::distance_triangle_triangle;
 use super::{DistanceOptions, DistanceResult};
-use crate::bvh::{rss_separation, Bvh, Expansion, Lanes4, Node, RelativeRss, PROJECT_MAX};
+use crate::bvh::{
+    rss_separation, Bvh, CornerColumns, Expansion, Lanes4, Node, RelativeRss, PROJECT_MAX,
+};
 use crate::math::{Mat3, Pose, Vec3};
 use crate::mesh::TriMesh;
 use std::collections::BinaryHeap;
@@ -82,8 +84,8 @@ pub(crate) struct DistanceSearch<'a> {
     stop: Stop,
     /// Absolute slack subtracted from every bound, covering rounding in the relative transform.
     slack: f64,
-    /// Origin of mesh 2's corner columns less mesh 1's, in mesh 1's frame (zero without them).
-    origins: Vec3,
+    /// Both meshes' corner columns, for [`Self::projected_gap`] (`None` when either has none).
+    columns: Option<Columns<'a>>,
     best: Best,
     /// [`Self::compute_cutoff`] for the current best.
     cut: f64,
@@ -93,6 +95,16 @@ pub(crate) struct DistanceSearch<'a> {
     /// values in tests.
     heap_cap: usize,
     lanes: Lanes4,
+}
+
+/// The two meshes' corner columns for one query.
+struct Columns<'a> {
+    c1: &'a CornerColumns,
+    c2: &'a CornerColumns,
+    /// Origin of `c2`'s coordinates less `c1`'s, in mesh 1's frame.
+    origins: Vec3,
+    /// The two columns' rounding bounds, summed.
+    error: f64,
 }
 
 /// A node pair waiting in the best-first queue, ordered by its bound (the smallest is the
@@ -149,9 +161,14 @@ impl<'a> DistanceSearch<'a> {
             abs: options.absolute_error,
             stop,
             slack: 1e-13 * scale,
-            origins: match (mesh1.bvh().corner_columns(), mesh2.bvh().corner_columns()) {
-                (Some(c1), Some(c2)) => pos12.transform_point(c2.origin) - c1.origin,
-                _ => Vec3::ZERO,
+            columns: match (mesh1.bvh().corner_columns(), mesh2.bvh().corner_columns()) {
+                (Some(c1), Some(c2)) => Some(Columns {
+                    c1,
+                    c2,
+                    origins: pos12.transform_point(c2.origin) - c1.origin,
+                    error: c1.error + c2.error,
+                }),
+                _ => None,
             },
             best: Best {
                 distance: f64::INFINITY,
@@ -224,18 +241,19 @@ impl<'a> DistanceSearch<'a> {
     /// triangles (a triangle fills half of its rectangle), so the corners themselves are often
     /// farther apart along that axis. One-sided: `min(u . q) - max(u . p)` over `q` in `b`, `p`
     /// in `a` bounds the distance for any unit `u`, and along the near-points axis `b` lies on
-    /// the positive side (the other side, computed too until now, was never the larger on the
-    /// knot34k poses of `examples/profile_poses.rs` nor in the tests, and cost 3% of the
-    /// searches' instructions). Computed from the `f32` corner columns, less their rounding
-    /// bound; `NEG_INFINITY` for meshes without columns.
+    /// the positive side (the other side was never the larger on the knot34k poses of
+    /// `examples/profile_poses.rs` nor in the tests, and computing it cost 3% of the searches'
+    /// instructions). Computed from the `f32` corner columns, less their rounding bound;
+    /// `NEG_INFINITY` for meshes without columns.
     fn projected_gap(&self, (i, a): (u32, &Node), (j, b): (u32, &Node), axis: Vec3) -> f64 {
-        let (Some(c1), Some(c2)) = (self.bvh1.corner_columns(), self.bvh2.corner_columns()) else {
+        let Some(c) = &self.columns else {
             return f64::NEG_INFINITY;
         };
-        let hi1 = self.lanes.max_along(c1.points(i, a), axis);
-        let lo2 = -self.lanes.max_along(c2.points(j, b), -(self.rot21 * axis));
-        // The columns are relative to their origins: `origins` is mesh 2's less mesh 1's.
-        lo2 - hi1 + axis.dot(self.origins) - (c1.error + c2.error)
+        let hi1 = self.lanes.max_along(c.c1.points(i, a), axis);
+        let lo2 = -self
+            .lanes
+            .max_along(c.c2.points(j, b), -(self.rot21 * axis));
+        lo2 - hi1 + axis.dot(c.origins) - c.error
     }
 
     /// [`Self::leaf_pair`] of the triangles of two leaf nodes.
@@ -314,8 +332,11 @@ impl<'a> DistanceSearch<'a> {
     /// Whether both subtrees of a pair hold at most [`PLUNGE_MAX`] triangles.
     #[inline]
     fn small_pair(&self, n1: u32, n2: u32) -> bool {
-        let size = |nodes: &[Node], n: u32| nodes[n as usize].leaf_range().len();
-        size(self.bvh1.nodes(), n1) <= PLUNGE_MAX && size(self.bvh2.nodes(), n2) <= PLUNGE_MAX
+        let (a, b) = (
+            &self.bvh1.nodes()[n1 as usize],
+            &self.bvh2.nodes()[n2 as usize],
+        );
+        both_at_most(a, b, PLUNGE_MAX)
     }
 
     /// Searches the pair `(n1, n2)` (bound `lb`) to the bottom, depth-first, nearest child
@@ -381,10 +402,7 @@ impl<'a> DistanceSearch<'a> {
                 let (a, b) = (&nodes1[c1 as usize], &nodes2[c2 as usize]);
                 // Where the volumes touch, the axis is degenerate and the projection seldom
                 // prunes; it is skipped there.
-                if bounds.gap[k] > 0.0
-                    && a.leaf_range().len() <= PROJECT_MAX
-                    && b.leaf_range().len() <= PROJECT_MAX
-                {
+                if bounds.gap[k] > 0.0 && both_at_most(a, b, PROJECT_MAX) {
                     let axis = Vec3::new(bounds.axis[0][k], bounds.axis[1][k], bounds.axis[2][k]);
                     lb = lb.max(self.projected_gap((c1, a), (c2, b), axis) - self.slack);
                     if lb >= cutoff {
@@ -414,6 +432,12 @@ impl<'a> DistanceSearch<'a> {
         }
         false
     }
+}
+
+/// Whether the subtrees of `a` and `b` both hold at most `max` triangles.
+#[inline]
+fn both_at_most(a: &Node, b: &Node, max: usize) -> bool {
+    a.leaf_range().len() <= max && b.leaf_range().len() <= max
 }
 
 #[cfg(test)]
