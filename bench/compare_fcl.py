@@ -45,6 +45,18 @@ def timed_pair(fa, fb, repeats, block=10):
     return statistics.median(sa), statistics.median(sb)
 
 
+def random_turn(rng):
+    """A random rotation (0.3 to pi rad) and a random unit direction."""
+    rot = rotation(rng.normal(size=3), rng.uniform(0.3, np.pi))
+    d = rng.normal(size=3)
+    return rot, d / np.linalg.norm(d)
+
+
+def medians(times):
+    """The medians of the first and of the second entries of (tocsin, fcl) time pairs."""
+    return tuple(statistics.median(side) for side in zip(*times))
+
+
 def place(mesh, rot, direction, target):
     """Offset along direction at which tocsin's distance is target (bisection)."""
     lo, hi = 0.0, 6.0 * mesh.bounding_radius + target
@@ -74,11 +86,9 @@ def main():
         radius = float(np.linalg.norm(mesh.vertices - mesh.vertices.mean(0), axis=1).max())
         o1 = fcl.CollisionObject(fm, fcl.Transform())
         for frac in (0.01, 0.1, 1.0):
-            t_ours, t_fcl, worst = [], [], 0.0
+            times, worst = [], 0.0
             for _ in range(n_poses):
-                rot = rotation(rng.normal(size=3), rng.uniform(0.3, np.pi))
-                d = rng.normal(size=3)
-                d /= np.linalg.norm(d)
+                rot, d = random_turn(rng)
                 p2 = place(mesh, rot, d, frac * radius)
                 if name == "knot34k":
                     knot_poses.append(f"{frac:g} " + " ".join(repr(float(x)) for x in p2.ravel()))
@@ -87,35 +97,33 @@ def main():
                 ours = tocsin.distance(mesh, np.eye(4), mesh, p2).distance
                 theirs = fcl.distance(o1, o2, req, fcl.DistanceResult())
                 worst = max(worst, abs(ours - theirs) / max(abs(theirs), 1e-300))
-                a, b = timed_pair(
-                    lambda: tocsin.distance(mesh, np.eye(4), mesh, p2),
-                    lambda: fcl.distance(o1, o2, req, fcl.DistanceResult()),
-                    repeats,
+                times.append(
+                    timed_pair(
+                        lambda: tocsin.distance(mesh, np.eye(4), mesh, p2),
+                        lambda: fcl.distance(o1, o2, req, fcl.DistanceResult()),
+                        repeats,
+                    )
                 )
-                t_ours.append(a)
-                t_fcl.append(b)
-            a, b = statistics.median(t_ours), statistics.median(t_fcl)
+            a, b = medians(times)
             rows.append((name, mesh.num_triangles, f"distance {frac:g}R", a, b, f"{worst:.1e}"))
         for label, frac in (("collide overlap", -1.0), ("collide near 0.01R", 0.01)):
-            t_ours, t_fcl, agree = [], [], 0
+            times, agree = [], 0
             for _ in range(n_poses):
-                rot = rotation(rng.normal(size=3), rng.uniform(0.3, np.pi))
-                d = rng.normal(size=3)
-                d /= np.linalg.norm(d)
+                rot, d = random_turn(rng)
                 p2 = place(mesh, rot, d, frac * radius) if frac > 0 else pose(rot, d * 0.3 * radius)
                 o2 = fcl.CollisionObject(fm, fcl.Transform(p2[:3, :3], p2[:3, 3]))
                 creq = fcl.CollisionRequest()
                 ours = tocsin.collide(mesh, np.eye(4), mesh, p2)
                 theirs = fcl.collide(o1, o2, creq, fcl.CollisionResult()) > 0
                 agree += ours == theirs
-                a, b = timed_pair(
-                    lambda: tocsin.collide(mesh, np.eye(4), mesh, p2),
-                    lambda: fcl.collide(o1, o2, creq, fcl.CollisionResult()),
-                    repeats,
+                times.append(
+                    timed_pair(
+                        lambda: tocsin.collide(mesh, np.eye(4), mesh, p2),
+                        lambda: fcl.collide(o1, o2, creq, fcl.CollisionResult()),
+                        repeats,
+                    )
                 )
-                t_ours.append(a)
-                t_fcl.append(b)
-            a, b = statistics.median(t_ours), statistics.median(t_fcl)
+            a, b = medians(times)
             rows.append((name, mesh.num_triangles, label, a, b, f"{agree}/{n_poses} agree"))
     lines = [
         f"{machine_line()}, python-fcl {getattr(fcl, '__version__', '?')}; "
