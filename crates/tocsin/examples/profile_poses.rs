@@ -9,7 +9,13 @@ fn main() {
         return;
     };
     let args: Vec<String> = std::env::args().collect();
-    let text = std::fs::read_to_string(&args[1]).unwrap_or_default();
+    let Some(text) = args
+        .get(1)
+        .and_then(|path| std::fs::read_to_string(path).ok())
+    else {
+        eprintln!("usage: profile_poses FILE [repeats] [only this fraction] (a readable FILE)");
+        return;
+    };
     let repeats: u32 = args.get(2).and_then(|a| a.parse().ok()).unwrap_or(20);
     let only: Option<f64> = args.get(3).and_then(|a| a.parse().ok());
     let opts = DistanceOptions::default();
