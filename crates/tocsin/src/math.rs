@@ -92,6 +92,47 @@ impl Pose {
         })
     }
 
+    /// A pose from a 4x4 matrix whose rotation block is a rotation only up to rounding in its
+    /// input (values written to six digits, say): the block is replaced by the nearest rotation
+    /// (the orthogonal factor of its polar decomposition, Frobenius norm), provided
+    /// `|R^T R - I|` is at most `max_error` entry-wise and the determinant is positive. The
+    /// translation and the last row are checked as in [`Pose::from_matrix`] (the last row within
+    /// `max_error`). Use this explicitly for rounded input; [`Pose::from_matrix`] never corrects.
+    pub fn from_matrix_orthonormalized(m: &Mat4, max_error: f64) -> Result<Self, PoseError> {
+        let cols = m.to_cols_array_2d();
+        if cols.iter().flatten().any(|v| !v.is_finite()) {
+            return Err(PoseError::NonFinite);
+        }
+        let rotation = Mat3::from_mat4(*m);
+        let err = orthonormality_error(&rotation);
+        if err > max_error {
+            return Err(PoseError::NotOrthonormal { error: err });
+        }
+        let det = rotation.determinant();
+        if det <= 0.0 {
+            return Err(PoseError::NotProperRotation { determinant: det });
+        }
+        // Newton's iteration for the polar factor, X <- (X + X^-T) / 2: quadratic convergence
+        // from a matrix this close to orthonormal; a few steps reach rounding.
+        let mut x = rotation;
+        for _ in 0..8 {
+            let next = 0.5 * (x + x.inverse().transpose());
+            let change = (next - x)
+                .to_cols_array()
+                .iter()
+                .fold(0.0_f64, |a, v| a.max(v.abs()));
+            x = next;
+            if change < 1e-16 {
+                break;
+            }
+        }
+        let mut fixed = *m;
+        fixed.x_axis = x.x_axis.extend(cols[0][3]);
+        fixed.y_axis = x.y_axis.extend(cols[1][3]);
+        fixed.z_axis = x.z_axis.extend(cols[2][3]);
+        Self::from_matrix(&fixed, max_error.max(ROTATION_TOLERANCE))
+    }
+
     /// The pose as a 4x4 homogeneous matrix.
     pub fn to_matrix(&self) -> Mat4 {
         Mat4::from_cols(
@@ -146,11 +187,7 @@ pub fn check_rotation(r: &Mat3, tolerance: f64) -> Result<(), PoseError> {
     if cols.iter().any(|v| !v.is_finite()) {
         return Err(PoseError::NonFinite);
     }
-    let rtr = r.transpose() * *r;
-    let err = (rtr - Mat3::IDENTITY)
-        .to_cols_array()
-        .iter()
-        .fold(0.0_f64, |m, v| m.max(v.abs()));
+    let err = orthonormality_error(r);
     if err > tolerance {
         return Err(PoseError::NotOrthonormal { error: err });
     }
@@ -159,4 +196,12 @@ pub fn check_rotation(r: &Mat3, tolerance: f64) -> Result<(), PoseError> {
         return Err(PoseError::NotProperRotation { determinant: det });
     }
     Ok(())
+}
+
+/// The largest entry of `|R^T R - I|`.
+fn orthonormality_error(r: &Mat3) -> f64 {
+    (r.transpose() * *r - Mat3::IDENTITY)
+        .to_cols_array()
+        .iter()
+        .fold(0.0_f64, |m, v| m.max(v.abs()))
 }

@@ -25,6 +25,14 @@
 //! - `screw`: `T(t) = exp(t log(T1 T0^-1)) T0`; `w` as above, `v` is the translation along the
 //!   screw axis and the axis is the screw axis, mapped to the body frame by `T0^-1`.
 //!
+//! **Precision.** Poses are computed from quantities of the body's own size, never by
+//! subtracting large ones: a screw's pose is `exp(t w) p0 + V(t w) t u` from its twist `(w, u)`
+//! (`V` the left Jacobian of SO(3), each coefficient without cancellation), not from its axis
+//! point, which lies `|u| / |w|` away (1e12 units for a 3e-12 rad turn, where the old formula
+//! was 7e-4 off at `t = 0`). Rotation logarithms go through quaternions (accurate to rounding
+//! at 0 and near pi). The axis point still serves the bounds, where only `|w| rho` counts: its
+//! relative rounding costs `|w|` times 1e-16 of the axis distance, a rounding-level speed.
+//!
 //! **Windowed bound.** Over a window `[t, t + h]` only, `r(s) = X(s) - A(s)` is `r(t)` turned by at
 //! most `|w| h` about `w`, so `|r(s) - r(t)| <= |w| h rho`, and
 //! `n . (w x r(s)) = r(s) . (n x w) <= r(t) . (n x w) + |n x w| |w| h rho`. For a set of points
@@ -68,12 +76,20 @@ pub struct Motion {
     axis_point: Vec3,
     /// Unit direction of the rotation axis, body frame (any unit vector when `angular = 0`).
     axis_dir: Vec3,
-    /// World position of the axis point at t = 0.
+    /// World position of the axis point at t = 0 (translation, interp: the path's reference
+    /// point; it is not used for a screw's poses).
     axis_start: Vec3,
+    /// A screw's twist linear part `u`: the world velocity field is `u + angular x X`.
+    twist: Vec3,
 }
 
 /// Tolerance for `translation`: the end rotation must equal the start rotation within this.
 pub const SAME_ROTATION_TOLERANCE: f64 = 1e-9;
+
+/// Smallest relative rotation (radians) that [`Motion::screw`] turns by; below it the screw is
+/// a translation. A turn this small moves a point by `1e-15` of its distance from the origin,
+/// below the rounding of the rotation matrices' own entries.
+pub const MIN_SCREW_ANGLE: f64 = 1e-15;
 
 impl Motion {
     /// A body that does not move.
@@ -139,13 +155,14 @@ impl Motion {
     }
 
     /// The SE(3) geodesic `T(t) = exp(t log(T1 T0^-1)) T0`: a screw about a fixed world axis.
+    /// A relative rotation below [`MIN_SCREW_ANGLE`] is taken as none (a translation with the
+    /// start's rotation): the two rotations then agree to the rounding of their entries.
     pub fn screw(start: Pose, end: Pose) -> Result<Self, MotionError> {
         check_poses(&start, &end)?;
         let r_rel = end.rotation * start.rotation.transpose();
         let angular = rotation_log(&r_rel);
-        let p_rel = end.translation - r_rel * start.translation;
         let theta = angular.length();
-        if theta < 1e-12 {
+        if theta < MIN_SCREW_ANGLE {
             return Self::translation(
                 start,
                 Pose {
@@ -154,13 +171,17 @@ impl Motion {
                 },
             );
         }
+        // The twist (angular, twist): T1 T0^-1 = exp of it, so its translation part is
+        // V(angular) twist = p1 - R_rel p0. Poses along the way come from the twist, never from
+        // the axis point, which is |twist| / theta away (1e12 units at theta = 1e-12).
+        let p_rel = end.translation - r_rel * start.translation;
+        let twist = rotation::jacobian_inverse_apply(angular, p_rel);
         let w = angular / theta;
-        let along = w * w.dot(p_rel);
-        let b = p_rel - along;
-        // The axis point q (orthogonal to w) solves (I - R_rel) q = b: q = (b + cot(theta/2) w x b) / 2.
-        let q = 0.5 * (b + w.cross(b) / (0.5 * theta).tan());
+        let along = w * w.dot(twist);
+        // Points of the axis move along it: twist + angular x q = along for q = w x twist / theta.
+        let q = w.cross(twist) / theta;
         let axis_point = start.inverse().transform_point(q);
-        Ok(Self::build(
+        let mut m = Self::build(
             MotionKind::Screw,
             start,
             end,
@@ -168,7 +189,9 @@ impl Motion {
             angular,
             axis_point,
             q,
-        ))
+        );
+        m.twist = twist;
+        Ok(m)
     }
 
     fn build(
@@ -190,6 +213,7 @@ impl Motion {
             axis_point,
             axis_dir,
             axis_start,
+            twist: Vec3::ZERO,
         }
     }
 
@@ -218,18 +242,36 @@ impl Motion {
         self.angular
     }
 
-    /// The pose at time `t` (any real `t`; the motion is defined on `[0, 1]`).
+    /// The pose at time `t` (any real `t`; the motion is defined on `[0, 1]`). At `t = 0` and
+    /// `t = 1` it is within rounding of `start` and `end` (exactly `end` at `t = 1`), for every
+    /// angle in `[0, pi]` and however far the rotation axis is from the body.
     pub fn pose_at(&self, t: f64) -> Pose {
         if t == 1.0 {
             return self.end;
         }
-        let rotation = rotation_exp(self.angular * t) * self.start.rotation;
-        // The axis point moves with `linear`; the body turns about it.
-        let axis_world = self.axis_start + self.linear * t;
-        let translation = axis_world - rotation * self.axis_point;
-        Pose {
-            rotation,
-            translation,
+        match self.kind {
+            MotionKind::Translation => Pose {
+                rotation: self.start.rotation,
+                translation: self.start.translation + self.linear * t,
+            },
+            MotionKind::Interp => {
+                let rotation = rotation_exp(self.angular * t) * self.start.rotation;
+                // The centre moves on a straight line; the body turns about it.
+                let centre = self.axis_start + self.linear * t;
+                Pose {
+                    rotation,
+                    translation: centre - rotation * self.axis_point,
+                }
+            }
+            MotionKind::Screw => {
+                // exp(t (angular, twist)) applied to the start pose.
+                let turn = rotation_exp(self.angular * t);
+                Pose {
+                    rotation: turn * self.start.rotation,
+                    translation: turn * self.start.translation
+                        + rotation::jacobian_apply(self.angular * t, self.twist * t),
+                }
+            }
         }
     }
 
