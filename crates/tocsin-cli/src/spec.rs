@@ -121,7 +121,7 @@ pub fn contact_json(r: &Option<ContactTime>) -> Value {
             "status": match c.status {
                 ContactStatus::Converged => "converged",
                 ContactStatus::StartedInContact => "started_in_contact",
-                _ => "iteration_limit",
+                _ => "other",
             },
         }),
     }

@@ -166,7 +166,8 @@ fn main() {
     for (name, m) in models() {
         let r = m.bounding_radius();
         let opts = ContactOptions::default();
-        let delta = tocsin::query::contact_time::effective_tolerance(&m, &m, &opts);
+        let still = Motion::stationary(Pose::IDENTITY);
+        let delta = tocsin::query::contact_time::effective_tolerance(&m, &still, &m, &still, &opts);
         for (kind, kind_name) in [(0, "translation"), (1, "interp"), (2, "screw")] {
             let mut rng = ChaCha8Rng::seed_from_u64(7 + kind as u64);
             let (mut times, mut iters) = (Vec::new(), Vec::new());

@@ -115,6 +115,35 @@ pub enum OptionsError {
         /// The value given.
         value: f64,
     },
+    /// An option is out of its range (the message says which range).
+    #[error("option `{name}` {requirement}, got {value}")]
+    OutOfRange {
+        /// The option's name.
+        name: &'static str,
+        /// What it must be, as a phrase ("must be positive").
+        requirement: &'static str,
+        /// The value given.
+        value: f64,
+    },
+}
+
+/// A time-of-contact query failed: bad options, or no answer within the iteration cap.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum ContactError {
+    /// An option is invalid.
+    #[error(transparent)]
+    Options(#[from] OptionsError),
+    /// The iteration cap was reached before the query could say whether the meshes come within
+    /// the tolerance. This is not a contact: the motion is only known to be free of contact on
+    /// `[0, time_reached]`.
+    #[error("no answer within {iterations} iterations: the motion is free of contact up to t = {time_reached}, undecided after (raise max_iterations)")]
+    IterationLimit {
+        /// The cap that was reached.
+        iterations: usize,
+        /// The motion is free of contact on `[0, time_reached]`.
+        time_reached: f64,
+    },
 }
 
 /// A motion is invalid.

@@ -19,7 +19,7 @@ pub mod mesh;
 pub mod motion;
 pub mod query;
 
-pub use error::{MeshError, MotionError, OptionsError, PoseError};
+pub use error::{ContactError, MeshError, MotionError, OptionsError, PoseError};
 pub use math::{Mat3, Mat4, Pose, Vec3};
 pub use mesh::TriMesh;
 pub use motion::{Motion, MotionKind};

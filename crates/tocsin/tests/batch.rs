@@ -47,7 +47,7 @@ fn batches_equal_single_queries_on_any_thread_count() {
     let copts = ContactOptions::default();
     let toc: Vec<_> = motions
         .iter()
-        .map(|(m1, m2)| time_of_contact(&knot, m1, &knot, m2, &copts).unwrap())
+        .map(|(m1, m2)| time_of_contact(&knot, m1, &knot, m2, &copts))
         .collect();
     for threads in [1, 2, 4] {
         assert_eq!(
@@ -78,4 +78,20 @@ fn batches_equal_single_queries_on_any_thread_count() {
     )
     .is_err());
     assert!(distance_batch(&knot, &knot, &[], &opts).unwrap().is_empty());
+    // Options are checked even when there is nothing to run.
+    let bad = DistanceOptions {
+        relative_error: f64::NAN,
+        absolute_error: 0.0,
+    };
+    assert!(distance_batch(&knot, &knot, &[], &bad).is_err());
+    let bad = ContactOptions {
+        tolerance: Some(-1.0),
+        ..Default::default()
+    };
+    assert!(time_of_contact_batch(&knot, &knot, &[], &bad).is_err());
+    let bad = ContactOptions {
+        max_iterations: 0,
+        ..Default::default()
+    };
+    assert!(time_of_contact_batch(&knot, &knot, &[], &bad).is_err());
 }

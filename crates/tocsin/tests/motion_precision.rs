@@ -80,7 +80,11 @@ fn every_kind_meets_its_endpoints_and_is_continuous_at_every_angle() {
                     // Continuity at 1: the last representable time before 1 is within rounding
                     // of the end (the special case at t = 1 hides no jump).
                     let before = m.pose_at(1.0_f64.next_down());
-                    assert!(gap(&before, &end, scale) < 1e-13, "jump at 1: {what}: {:e}", gap(&before, &end, scale));
+                    assert!(
+                        gap(&before, &end, scale) < 1e-13,
+                        "jump at 1: {what}: {:e}",
+                        gap(&before, &end, scale)
+                    );
                     // And nowhere else: a step of 1e-9 moves the pose by at most its speed.
                     for k in 0..10 {
                         let t = k as f64 / 10.0;
@@ -133,7 +137,11 @@ fn rotation_log_is_accurate_near_zero_and_pi() {
             let w = rotation_log(&r);
             // Both senses are the same rotation at exactly pi.
             let err = (w - axis * angle).length().min((w + axis * angle).length());
-            let allowed = if angle == std::f64::consts::PI { 1e-7 } else { 1e-14 };
+            let allowed = if angle == std::f64::consts::PI {
+                1e-7
+            } else {
+                1e-14
+            };
             assert!(err < allowed, "angle {angle:e}: error {err:e}");
             assert!(
                 (rotation_exp(w) - r)
@@ -165,9 +173,9 @@ fn tiny_rotation_screws_keep_their_bound_along_the_path() {
                 for k in 0..10 {
                     let t = k as f64 / 10.0;
                     let h = 1e-3;
-                    let speed = n.dot(
-                        m.pose_at(t + h).transform_point(x) - m.pose_at(t).transform_point(x),
-                    ) / h;
+                    let speed = n
+                        .dot(m.pose_at(t + h).transform_point(x) - m.pose_at(t).transform_point(x))
+                        / h;
                     assert!(speed <= mu + 1e-9, "angle {angle:e}: {speed} > {mu}");
                 }
             }

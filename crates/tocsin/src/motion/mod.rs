@@ -181,15 +181,7 @@ impl Motion {
         // Points of the axis move along it: twist + angular x q = along for q = w x twist / theta.
         let q = w.cross(twist) / theta;
         let axis_point = start.inverse().transform_point(q);
-        let mut m = Self::build(
-            MotionKind::Screw,
-            start,
-            end,
-            along,
-            angular,
-            axis_point,
-            q,
-        );
+        let mut m = Self::build(MotionKind::Screw, start, end, along, angular, axis_point, q);
         m.twist = twist;
         Ok(m)
     }

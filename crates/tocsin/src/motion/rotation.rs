@@ -30,9 +30,7 @@ fn quaternion(r: &Mat3) -> (Vec3, f64) {
         1.0 - m(0, 0) + m(1, 1) - m(2, 2),
         1.0 - m(0, 0) - m(1, 1) + m(2, 2),
     ];
-    let k = (0..4)
-        .max_by(|&i, &j| sq[i].total_cmp(&sq[j]))
-        .unwrap_or(0);
+    let k = (0..4).max_by(|&i, &j| sq[i].total_cmp(&sq[j])).unwrap_or(0);
     let s = 2.0 * sq[k].max(0.0).sqrt(); // 4 times the largest component
     let (x, y, z, w) = match k {
         0 => (

@@ -7,10 +7,18 @@
 //! `(g - delta/2) / (mu_1(n) + mu_2(-n))` (see [`crate::motion`]). The search is a branch and
 //! bound on that step, children first by smaller step, starting from the last closest pair.
 //!
-//! Semantics (the tests check them against dense sampling): if the meshes collide in `[0, 1]`
-//! the returned time is no later than the first collision and the distance there is at most
-//! `delta`; if the distance stays above `delta` no contact is returned; in between either answer
-//! is allowed. Touching at `t = 0` returns `t = 0` with [`ContactStatus::StartedInContact`].
+//! Semantics (the tests check them against dense sampling): a contact is returned whenever the
+//! meshes come closer than `delta / 2` (in particular whenever they collide), never when they
+//! stay farther apart than `delta`, and either way in between. A returned time is no later
+//! than the first collision, and the distance there is at most `delta`. Touching at `t = 0`
+//! returns `t = 0` with [`ContactStatus::StartedInContact`]. Reaching the iteration cap first is
+//! an error ([`ContactError::IterationLimit`]), never a contact.
+//!
+//! Normal: `(point2 - point1) / distance` where that direction is determined, that is where the
+//! distance is above [`NORMAL_RESOLUTION`] of the scene scale; below it (a tolerance near
+//! rounding) the direction between the closest points at the iterate before, where the meshes
+//! were clearly apart; at a start in contact, the normal of `triangle1` turned towards
+//! `triangle2` (a convention: touching soups have no normal).
 //!
 //! Deviation from C2A: steps are taken against `delta / 2` rather than 0, so that the iteration
 //! provably reaches a time where a triangle pair is within `delta` (and stops) whenever the
@@ -27,13 +35,17 @@
 
 mod traverse;
 
-use crate::error::OptionsError;
+use crate::error::{ContactError, OptionsError};
 use crate::math::Vec3;
 use crate::motion::Motion;
 use crate::query::collide::collide;
 use crate::query::distance::{search_distance, DistanceCache, DistanceOptions};
 use crate::TriMesh;
 use traverse::{StepOutcome, StepSearch};
+
+/// Below this fraction of the scene scale a distance's direction is rounding noise, and the
+/// normal is taken from the iterate before (module docs).
+pub const NORMAL_RESOLUTION: f64 = 1e-10;
 
 /// Relative step slack far from contact (see the module docs).
 pub const FAR_SLACK: f64 = 0.5;
@@ -44,7 +56,9 @@ pub const NEAR_SLACK: f64 = 0.2;
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ContactOptions {
     /// Distance tolerance `delta` (model units, > 0): a returned time has distance at most this.
-    /// `None` uses `1e-3` times the smaller bounding radius of the two meshes.
+    /// `None` uses [`effective_tolerance`]'s default: `1e-3` times the smaller bounding radius,
+    /// raised for degenerate meshes (points, segments) to `1e-6` of the larger radius and to
+    /// `1e-12` of the scene scale.
     pub tolerance: Option<f64>,
     /// Largest number of advancement iterations (>= 1). Default 1000.
     pub max_iterations: usize,
@@ -67,9 +81,6 @@ pub enum ContactStatus {
     Converged,
     /// The meshes touch or overlap at `t = 0`.
     StartedInContact,
-    /// The iteration cap was reached first; the time returned is still known to be free of
-    /// collision (the meshes may be farther than the tolerance there).
-    IterationLimit,
 }
 
 /// Where and when two moving meshes first come within the tolerance.
@@ -81,11 +92,10 @@ pub struct ContactTime {
     pub point1: Vec3,
     /// Closest point on mesh 2 at `time`, world frame.
     pub point2: Vec3,
-    /// Unit normal from body 1 to body 2, world frame: `(point2 - point1) / distance`; when the
-    /// meshes touch, the normal of `triangle1` turned towards `triangle2`.
+    /// Unit normal from body 1 to body 2, world frame: `(point2 - point1) / distance`, or where
+    /// the distance is below rounding, the rule in the module docs.
     pub normal: Vec3,
-    /// Distance between the meshes at `time` (model units; at most the tolerance unless the
-    /// status is `IterationLimit`).
+    /// Distance between the meshes at `time` (model units, at most the tolerance).
     pub distance: f64,
     /// Triangle of mesh 1 holding `point1`.
     pub triangle1: usize,
@@ -103,22 +113,53 @@ pub struct ContactCache {
     pair: Option<(u32, u32)>,
 }
 
-/// The tolerance a query with these options uses on these meshes (model units).
-pub fn effective_tolerance(mesh1: &TriMesh, mesh2: &TriMesh, options: &ContactOptions) -> f64 {
-    options
-        .tolerance
-        .unwrap_or_else(|| 1e-3 * mesh1.bounding_radius().min(mesh2.bounding_radius()))
+/// The tolerance a query with these options uses on these meshes and motions (model units):
+/// the option when given, else `max(1e-3 min(R1, R2), 1e-6 max(R1, R2), 1e-12 S)`, `R` the
+/// bounding radii and `S` the scene scale (radii plus the largest start or end position of
+/// either body). The last two terms only matter for degenerate meshes: a one-point mesh has
+/// `R = 0`, and 1e-3 of it is no tolerance at all.
+pub fn effective_tolerance(
+    mesh1: &TriMesh,
+    motion1: &Motion,
+    mesh2: &TriMesh,
+    motion2: &Motion,
+    options: &ContactOptions,
+) -> f64 {
+    options.tolerance.unwrap_or_else(|| {
+        let (r1, r2) = (mesh1.bounding_radius(), mesh2.bounding_radius());
+        let scale = scene_scale(mesh1, motion1, mesh2, motion2);
+        (1e-3 * r1.min(r2))
+            .max(1e-6 * r1.max(r2))
+            .max(1e-12 * scale)
+            .max(f64::MIN_POSITIVE)
+    })
+}
+
+/// Bounding radii plus the largest start or end position of either body.
+fn scene_scale(mesh1: &TriMesh, motion1: &Motion, mesh2: &TriMesh, motion2: &Motion) -> f64 {
+    let reach = |m: &Motion| {
+        m.start()
+            .translation
+            .length()
+            .max(m.end().translation.length())
+    };
+    mesh1.bounding_radius() + mesh2.bounding_radius() + reach(motion1) + reach(motion2)
 }
 
 /// First time of contact of `mesh1` moving by `motion1` and `mesh2` moving by `motion2` over
-/// `t in [0, 1]`; `None` when they stay farther apart than the tolerance.
+/// `t in [0, 1]`: `Some` whenever they come closer than half the tolerance, `None` when they
+/// stay farther apart than it (either in between; module docs).
+///
+/// # Errors
+/// [`ContactError::Options`] for a bad option, [`ContactError::IterationLimit`] when the cap
+/// is reached before the answer is known.
 pub fn time_of_contact(
     mesh1: &TriMesh,
     motion1: &Motion,
     mesh2: &TriMesh,
     motion2: &Motion,
     options: &ContactOptions,
-) -> Result<Option<ContactTime>, OptionsError> {
+) -> Result<Option<ContactTime>, ContactError> {
     time_of_contact_with_cache(
         mesh1,
         motion1,
@@ -137,37 +178,25 @@ pub fn time_of_contact_with_cache(
     motion2: &Motion,
     options: &ContactOptions,
     cache: &mut ContactCache,
-) -> Result<Option<ContactTime>, OptionsError> {
-    let delta = effective_tolerance(mesh1, mesh2, options);
-    if !(delta.is_finite() && delta > 0.0) {
-        return Err(OptionsError::Invalid {
-            name: "tolerance",
-            value: delta,
-        });
-    }
-    if options.max_iterations == 0 {
-        return Err(OptionsError::Invalid {
-            name: "max_iterations",
-            value: 0.0,
-        });
-    }
+) -> Result<Option<ContactTime>, ContactError> {
+    let delta = validate(mesh1, motion1, mesh2, motion2, options)?;
+    let resolution = NORMAL_RESOLUTION * scene_scale(mesh1, motion1, mesh2, motion2);
     let (start1, start2) = (motion1.pose_at(0.0), motion2.pose_at(0.0));
     if collide(mesh1, &start1, mesh2, &start2) {
-        return Ok(Some(finish(
-            mesh1,
-            motion1,
-            mesh2,
-            motion2,
-            0.0,
-            0,
-            ContactStatus::StartedInContact,
-            cache,
-        )));
+        let ends = Ends {
+            time: 0.0,
+            earlier: None,
+            resolution,
+            iterations: 0,
+            status: ContactStatus::StartedInContact,
+        };
+        return Ok(Some(finish(mesh1, motion1, mesh2, motion2, ends, cache)));
     }
     let small_radius = mesh1.bounding_radius().min(mesh2.bounding_radius());
     let far = (50.0 * delta).max(small_radius / 50.0);
     let mut search = StepSearch::new(mesh1, motion1, mesh2, motion2, delta);
     let mut t = 0.0;
+    let mut earlier = None;
     let mut last_distance = f64::INFINITY;
     // Bounds are taken over a window twice the last step (the whole rest at first): tighter
     // than over all of [t, 1] when the rotation axis is far from the bodies.
@@ -181,16 +210,14 @@ pub fn time_of_contact_with_cache(
         match search.run(t, window.min(1.0 - t), slack, cache.pair) {
             StepOutcome::Within { pair } => {
                 cache.pair = Some(pair);
-                return Ok(Some(finish(
-                    mesh1,
-                    motion1,
-                    mesh2,
-                    motion2,
-                    t,
-                    iteration,
-                    ContactStatus::Converged,
-                    cache,
-                )));
+                let ends = Ends {
+                    time: t,
+                    earlier,
+                    resolution,
+                    iterations: iteration,
+                    status: ContactStatus::Converged,
+                };
+                return Ok(Some(finish(mesh1, motion1, mesh2, motion2, ends, cache)));
             }
             StepOutcome::Step { dt, pair, distance } => {
                 cache.pair = pair.or(cache.pair);
@@ -198,75 +225,125 @@ pub fn time_of_contact_with_cache(
                 if t + dt >= 1.0 {
                     return Ok(None);
                 }
+                if distance > resolution {
+                    earlier = Some(t);
+                }
                 t += dt;
                 window = 2.0 * dt;
             }
         }
     }
-    Ok(Some(finish(
-        mesh1,
-        motion1,
-        mesh2,
-        motion2,
-        t,
-        options.max_iterations,
-        ContactStatus::IterationLimit,
-        cache,
-    )))
+    Err(ContactError::IterationLimit {
+        iterations: options.max_iterations,
+        time_reached: t,
+    })
+}
+
+/// The options checked, and the tolerance they give on these meshes.
+fn validate(
+    mesh1: &TriMesh,
+    motion1: &Motion,
+    mesh2: &TriMesh,
+    motion2: &Motion,
+    options: &ContactOptions,
+) -> Result<f64, OptionsError> {
+    if let Some(tolerance) = options.tolerance {
+        if !(tolerance.is_finite() && tolerance > 0.0) {
+            return Err(OptionsError::OutOfRange {
+                name: "tolerance",
+                requirement: "must be positive and finite",
+                value: tolerance,
+            });
+        }
+    }
+    if options.max_iterations == 0 {
+        return Err(OptionsError::OutOfRange {
+            name: "max_iterations",
+            requirement: "must be at least 1",
+            value: 0.0,
+        });
+    }
+    Ok(effective_tolerance(mesh1, motion1, mesh2, motion2, options))
 }
 
 /// [`time_of_contact`] for every `(motion1, motion2)` in `motions`, in parallel (rayon);
-/// results in input order, identical to the single queries whatever the thread count.
+/// results in input order, identical to the single queries whatever the thread count. The
+/// options are checked first (also for an empty batch); each query's own outcome, an iteration
+/// limit included, is its entry.
+#[allow(clippy::type_complexity)]
 pub fn time_of_contact_batch(
     mesh1: &TriMesh,
     mesh2: &TriMesh,
     motions: &[(Motion, Motion)],
     options: &ContactOptions,
-) -> Result<Vec<Option<ContactTime>>, OptionsError> {
+) -> Result<Vec<Result<Option<ContactTime>, ContactError>>, OptionsError> {
     use rayon::prelude::*;
-    motions
+    let still = Motion::stationary(crate::Pose::IDENTITY);
+    validate(mesh1, &still, mesh2, &still, options)?;
+    Ok(motions
         .par_iter()
         .map(|(m1, m2)| time_of_contact(mesh1, m1, mesh2, m2, options))
-        .collect()
+        .collect())
 }
 
-#[allow(clippy::too_many_arguments)]
+/// How the advancement ended: the time, the last iterate before it where the meshes were
+/// clearly apart, the scale below which a direction is noise, the count and the status.
+struct Ends {
+    time: f64,
+    earlier: Option<f64>,
+    resolution: f64,
+    iterations: usize,
+    status: ContactStatus,
+}
+
+/// The result at `ends.time`: one exact distance query, warm-started from the last pair.
 fn finish(
     mesh1: &TriMesh,
     motion1: &Motion,
     mesh2: &TriMesh,
     motion2: &Motion,
-    time: f64,
-    iterations: usize,
-    status: ContactStatus,
+    ends: Ends,
     cache: &mut ContactCache,
 ) -> ContactTime {
-    let (p1, p2) = (motion1.pose_at(time), motion2.pose_at(time));
-    let mut dcache = DistanceCache { pair: cache.pair };
-    let d = search_distance(
-        mesh1,
-        &p1,
-        mesh2,
-        &p2,
-        &DistanceOptions::default(),
-        &mut dcache,
-    );
-    cache.pair = dcache.pair;
-    let normal = if d.distance > 0.0 {
+    let closest = |time: f64, cache: &mut ContactCache| {
+        let (p1, p2) = (motion1.pose_at(time), motion2.pose_at(time));
+        let mut dcache = DistanceCache { pair: cache.pair };
+        let d = search_distance(
+            mesh1,
+            &p1,
+            mesh2,
+            &p2,
+            &DistanceOptions::default(),
+            &mut dcache,
+        );
+        cache.pair = dcache.pair;
+        (d, p1, p2)
+    };
+    let (d, p1, p2) = closest(ends.time, cache);
+    let resolution = ends.resolution;
+    let normal = if d.distance > resolution {
         (d.point2 - d.point1) / d.distance
     } else {
-        touching_normal(mesh1, &p1, d.triangle1, mesh2, &p2, d.triangle2)
+        // The direction at this time is rounding noise: take it where the meshes were apart.
+        let before = ends
+            .earlier
+            .map(|t| closest(t, &mut ContactCache { pair: cache.pair }).0)
+            .filter(|e| e.distance > resolution);
+        match before {
+            Some(e) => (e.point2 - e.point1) / e.distance,
+            None => touching_normal(mesh1, &p1, d.triangle1, mesh2, &p2, d.triangle2),
+        }
     };
     ContactTime {
-        time,
+        time: ends.time,
         point1: d.point1,
         point2: d.point2,
         normal,
         distance: d.distance,
         triangle1: d.triangle1,
         triangle2: d.triangle2,
-        iterations,
-        status,
+        iterations: ends.iterations,
+        status: ends.status,
     }
 }
 
