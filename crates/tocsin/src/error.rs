@@ -32,6 +32,34 @@ pub enum MeshError {
         /// The offending value.
         value: f64,
     },
+    /// A vertex coordinate lies outside the supported range (magnitude above
+    /// [`crate::math::MAX_COORDINATE`]: squared distances would overflow).
+    #[error("vertex {vertex}, coordinate {axis}: {value:e} is outside the supported range (magnitude at most 1e150)")]
+    CoordinateOutOfRange {
+        /// Index of the offending vertex.
+        vertex: usize,
+        /// Which coordinate: 'x', 'y' or 'z'.
+        axis: char,
+        /// The offending value.
+        value: f64,
+    },
+    /// Every coordinate of the mesh is tiny but not all are zero (largest magnitude below
+    /// [`crate::math::MIN_SCALE`]): squared distances would underflow. Rescale the model.
+    #[error("the mesh's largest coordinate magnitude is {magnitude:e}, below the supported 1e-150 (rescale the model)")]
+    TooSmall {
+        /// The largest coordinate magnitude found.
+        magnitude: f64,
+    },
+    /// Memory for the mesh and its hierarchy could not be reserved.
+    #[error("out of memory: a mesh of {triangles} triangles and {vertices} vertices needs about {bytes} bytes")]
+    OutOfMemory {
+        /// Triangles asked for.
+        triangles: usize,
+        /// Vertices asked for.
+        vertices: usize,
+        /// Estimated bytes (mesh, hierarchy and build).
+        bytes: usize,
+    },
     /// The mesh is too large for 32-bit indices.
     #[error("the mesh has {count} {what}, more than the supported 2^31 - 1")]
     TooLarge {
@@ -83,6 +111,12 @@ pub enum PoseError {
     /// An entry is NaN or infinite.
     #[error("the pose has a NaN or infinite entry")]
     NonFinite,
+    /// A translation is outside the supported range (magnitude above 1e150).
+    #[error("the translation {value:e} is outside the supported range (magnitude at most 1e150)")]
+    OutOfRange {
+        /// The offending entry.
+        value: f64,
+    },
     /// The last row of a 4x4 matrix is not `0 0 0 1`.
     #[error("the last row of the 4x4 pose is {last_row:?}, expected [0, 0, 0, 1]")]
     NotHomogeneous {

@@ -16,6 +16,25 @@ pub type Mat4 = glam::DMat4;
 /// must be below it, entry-wise.
 pub const ROTATION_TOLERANCE: f64 = 1e-6;
 
+/// Largest coordinate magnitude accepted anywhere (mesh vertices, translations, centres): the
+/// squares of differences of such numbers stay finite (1e300 < 1.8e308).
+pub const MAX_COORDINATE: f64 = 1e150;
+
+/// Smallest scale of a mesh (its largest coordinate magnitude, unless all are zero): squared
+/// distances at that scale stay normal numbers (1e-300 > 2.2e-308).
+pub const MIN_SCALE: f64 = 1e-150;
+
+/// Checks a translation: finite and within [`MAX_COORDINATE`].
+pub fn check_translation(t: Vec3) -> Result<(), PoseError> {
+    if !t.is_finite() {
+        return Err(PoseError::NonFinite);
+    }
+    match t.to_array().into_iter().find(|v| v.abs() > MAX_COORDINATE) {
+        Some(value) => Err(PoseError::OutOfRange { value }),
+        None => Ok(()),
+    }
+}
+
 /// A rigid transform (rotation then translation), mapping body-frame points to the world frame.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Pose {
@@ -50,9 +69,7 @@ impl Pose {
     /// within [`ROTATION_TOLERANCE`] and that every entry is finite.
     pub fn new(rotation: Mat3, translation: Vec3) -> Result<Self, PoseError> {
         check_rotation(&rotation, ROTATION_TOLERANCE)?;
-        if !translation.is_finite() {
-            return Err(PoseError::NonFinite);
-        }
+        check_translation(translation)?;
         Ok(Self {
             rotation,
             translation,
@@ -86,6 +103,7 @@ impl Pose {
         }
         let rotation = Mat3::from_mat4(*m);
         check_rotation(&rotation, tolerance)?;
+        check_translation(m.w_axis.truncate())?;
         Ok(Self {
             rotation,
             translation: m.w_axis.truncate(),

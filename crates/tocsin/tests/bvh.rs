@@ -8,11 +8,15 @@ use common::*;
 use tocsin::bvh::Rss;
 use tocsin::{mesh, TriMesh, Vec3};
 
+/// Whether `p` is inside the volume, allowing only this check's own rounding (a few units in
+/// the last place of the coordinates), not a relative slack on the radius: flat volumes have
+/// radii of rounding size, and their margin is what is being tested.
 fn inside(rss: &Rss, p: Vec3) -> bool {
     let q = rss.axes.transpose() * (p - rss.center);
     let dx = (q.x.abs() - rss.half_lengths[0]).max(0.0);
     let dy = (q.y.abs() - rss.half_lengths[1]).max(0.0);
-    (dx * dx + dy * dy + q.z * q.z).sqrt() <= rss.radius * (1.0 + 1e-9)
+    let own_rounding = 1e-15 * (p.length() + rss.center.length());
+    (dx * dx + dy * dy + q.z * q.z).sqrt() <= rss.radius + own_rounding
 }
 
 fn check(m: &TriMesh) {
@@ -56,6 +60,18 @@ fn volumes_contain_their_triangles() {
         for n in [1, 2, 3, 17, 64] {
             check(&random_soup(&mut rng, n, scale));
         }
+    }
+    // Flat and far from the origin: radii are the margin alone.
+    for offset in [1.0, 1e3, 1e6] {
+        let plate = mesh::plate(2.0, 12).unwrap();
+        let turn =
+            tocsin::Pose::from_axis_angle(Vec3::new(0.3, -0.7, 0.2), 0.9, Vec3::splat(offset));
+        let moved: Vec<Vec3> = plate
+            .vertices()
+            .iter()
+            .map(|&v| turn.transform_point(v))
+            .collect();
+        check(&TriMesh::new(moved, plate.triangles().to_vec()).unwrap());
     }
     check(&mesh::torus_knot(175, 8).unwrap());
     check(&mesh::plate(2.0, 10).unwrap());

@@ -12,6 +12,7 @@ to world coordinates (the convention of trimesh and robotics).
 """
 
 from ._core import (
+    __version__,
     ContactResult,
     DistanceResult,
     Mesh,
@@ -19,24 +20,37 @@ from ._core import (
     collide,
     collide_pairs,
     distance,
+    orthonormalize,
     time_of_contact,
     within_distance,
 )
 from ._batch import ContactBatch, DistanceBatch, collide_batch, distance_batch, time_of_contact_batch
 from ._plot import plot_contact
-from ._errors import MeshError, MeshFileError, MotionError, OptionsError, PoseError, TocsinError
+from ._errors import (
+    IterationLimitError,
+    MeshError,
+    MeshFileError,
+    MotionError,
+    OptionsError,
+    OutOfMemoryError,
+    PoseError,
+    TocsinError,
+)
 
 __all__ = [
+    "__version__",
     "ContactBatch",
     "ContactResult",
     "DistanceBatch",
     "DistanceResult",
+    "IterationLimitError",
     "Mesh",
     "MeshError",
     "MeshFileError",
     "Motion",
     "MotionError",
     "OptionsError",
+    "OutOfMemoryError",
     "PoseError",
     "TocsinError",
     "collide",
@@ -44,6 +58,7 @@ __all__ = [
     "collide_pairs",
     "distance",
     "distance_batch",
+    "orthonormalize",
     "plot_contact",
     "time_of_contact",
     "time_of_contact_batch",

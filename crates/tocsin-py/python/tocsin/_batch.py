@@ -30,7 +30,9 @@ class DistanceBatch(NamedTuple):
 
 
 class ContactBatch(NamedTuple):
-    """Times of contact of K motions; NaN (or -1, or 'none') where there is no contact."""
+    """Times of contact of K motions; NaN (or -1) where there is no contact. A row whose status
+    is 'iteration_limit' is not a contact either: its time is NaN, and its motion is only known
+    free of contact up to ``free_until``."""
 
     time: npt.NDArray[np.float64]
     """(K,) time of contact in [0, 1], NaN when none."""
@@ -47,9 +49,13 @@ class ContactBatch(NamedTuple):
     triangle2: npt.NDArray[np.int64]
     """(K,) triangle of mesh 2 holding point2 (-1 when none)."""
     iterations: npt.NDArray[np.int64]
-    """(K,) advancement iterations (0 when none)."""
+    """(K,) advancement iterations (0 when none; the cap for 'iteration_limit')."""
     status: npt.NDArray[np.str_]
-    """(K,) 'none', 'converged', 'started_in_contact' or 'iteration_limit'."""
+    """(K,) 'none' (no contact), 'converged', 'started_in_contact' (contacts), or
+    'iteration_limit' (undecided: the cap was reached first; not a contact)."""
+    free_until: npt.NDArray[np.float64]
+    """(K,) the motion is known free of contact on [0, free_until]: 1.0 for 'none', the time
+    of contact for contacts, the time reached for 'iteration_limit'."""
 
 
 def distance_batch(
@@ -85,7 +91,7 @@ def time_of_contact_batch(
     'translation', 'interp' (about the body origin) or 'screw', for both bodies."""
     starts2 = np.eye(4) if starts2 is None else starts2
     ends2 = starts2 if ends2 is None else ends2
-    t, p1, p2, n, d, t1, t2, it, st = _core._time_of_contact_batch(
+    t, p1, p2, n, d, t1, t2, it, st, free = _core._time_of_contact_batch(
         mesh1, starts1, ends1, mesh2, starts2, ends2, kind, tolerance, max_iterations
     )
-    return ContactBatch(t, p1, p2, n, d, t1, t2, it, _STATUS[st])
+    return ContactBatch(t, p1, p2, n, d, t1, t2, it, _STATUS[st], free)

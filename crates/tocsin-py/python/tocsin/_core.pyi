@@ -7,7 +7,10 @@ import numpy as np
 import numpy.typing as npt
 from numpy.typing import ArrayLike
 
+__version__: str
+
 __all__ = [
+    "__version__",
     "ContactResult",
     "DistanceResult",
     "Mesh",
@@ -18,6 +21,7 @@ __all__ = [
     "collide",
     "collide_pairs",
     "distance",
+    "orthonormalize",
     "time_of_contact",
     "within_distance",
 ]
@@ -98,8 +102,9 @@ def distance(
 ) -> DistanceResult:
     """Minimum distance between mesh1 at pose1 and mesh2 at pose2 (4x4 rigid transforms).
 
-    Exact by default; with error bounds the returned distance d satisfies
-    true <= d <= true * (1 + relative_error) + absolute_error. The GIL is released.
+    Exact by default (to about 2e-13 of the scene's scale: two meshes one rounding step apart
+    may get 0.0 while collide() says False); with error bounds the returned distance d
+    satisfies true <= d <= true * (1 + relative_error) + absolute_error. The GIL is released.
     """
 
 def collide(mesh1: Mesh, pose1: ArrayLike, mesh2: Mesh, pose2: ArrayLike) -> bool:
@@ -143,7 +148,14 @@ class Motion:
 
 @final
 class ContactResult:
-    """When and where two moving meshes first come within the tolerance."""
+    """When and where two moving meshes first come within the tolerance.
+
+    `time` is no later than the first collision, and the distance there is at most the
+    tolerance. The normal points from body 1 to body 2: the direction between the closest
+    points where that is determined; at a distance below rounding (1e-10 of the scene scale),
+    the direction at the last advancement step where the meshes were clearly apart; when the
+    meshes start in contact, the normal of triangle1 turned towards triangle2 (a convention).
+    """
 
     @property
     def time(self) -> float:
@@ -159,8 +171,7 @@ class ContactResult:
         """Unit normal from body 1 to body 2, world frame, shape (3,)."""
     @property
     def distance(self) -> float:
-        """Distance at `time`, model units (at most the tolerance unless status is
-        'iteration_limit')."""
+        """Distance at `time`, model units, at most the tolerance."""
     @property
     def triangle1(self) -> int:
         """Triangle of mesh 1 holding point1."""
@@ -171,9 +182,9 @@ class ContactResult:
     def iterations(self) -> int:
         """Conservative-advancement iterations taken."""
     @property
-    def status(self) -> Literal["converged", "started_in_contact", "iteration_limit"]:
-        """How the query ended; 'iteration_limit' means `time` is collision-free but the
-        tolerance was not reached within max_iterations."""
+    def status(self) -> Literal["converged", "started_in_contact"]:
+        """How the query ended: 'converged' (within the tolerance at `time`) or
+        'started_in_contact' (touching at t = 0)."""
 
 def time_of_contact(
     mesh1: Mesh,
@@ -183,8 +194,19 @@ def time_of_contact(
     tolerance: Optional[float] = None,
     max_iterations: Optional[int] = None,
 ) -> Optional[ContactResult]:
-    """First time of contact over t in [0, 1], or None when the meshes stay farther apart than
-    tolerance (model units; default 1e-3 of the smaller bounding radius). The GIL is released."""
+    """First time of contact of mesh1 moving by motion1 and mesh2 moving by motion2 over t in
+    [0, 1]. Returns a ContactResult whenever the meshes come within tolerance / 2 of each other
+    (always when they collide), None when they stay farther apart than the tolerance, and
+    either in between. The tolerance defaults to 1e-3 of the smaller bounding radius (raised
+    for degenerate meshes). Raises IterationLimitError when max_iterations (default 1000) runs
+    out first: that is no contact, and the motion is only known free up to its time_reached.
+    The GIL is released."""
+
+def orthonormalize(pose: ArrayLike, max_error: float = 1e-3) -> npt.NDArray[np.float64]:
+    """A copy of the 4x4 pose with its rotation block replaced by the nearest rotation, for
+    input whose rotations were rounded (written to six digits, say), which the 1e-6 rigidity
+    check of every query rejects. Raises PoseError when the block is farther than max_error
+    from orthonormal (entry-wise |R^T R - I|) or is a reflection. Never called implicitly."""
 
 def _distance_batch(
     mesh1: Mesh, poses1: ArrayLike, mesh2: Mesh, poses2: ArrayLike, relative_error: float = 0.0, absolute_error: float = 0.0
@@ -212,4 +234,5 @@ def _time_of_contact_batch(
     npt.NDArray[np.int64],
     npt.NDArray[np.int64],
     npt.NDArray[np.int64],
+    npt.NDArray[np.float64],
 ]: ...

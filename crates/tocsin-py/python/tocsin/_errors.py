@@ -6,8 +6,9 @@ class TocsinError(Exception):
 
 
 class MeshError(TocsinError, ValueError):
-    """A mesh is invalid: no triangles, an index out of range, a NaN or infinite coordinate,
-    a wrong array shape or dtype, or a file whose content is not a valid mesh."""
+    """A mesh is invalid: no triangles, an index out of range, a NaN or infinite coordinate, a
+    coordinate beyond 1e150 (or a whole mesh below 1e-150), a wrong array shape or dtype, a bad
+    generator size, or a file whose content is not a valid mesh."""
 
 
 class MeshFileError(MeshError, OSError):
@@ -25,4 +26,20 @@ class MotionError(TocsinError, ValueError):
 
 
 class OptionsError(TocsinError, ValueError):
-    """A query option (tolerance, error bound, threshold) is negative, NaN or infinite."""
+    """A query option is out of its range or of the wrong type: a negative, NaN or infinite
+    tolerance, error bound or threshold, a non-positive max_iterations."""
+
+
+class IterationLimitError(TocsinError, RuntimeError):
+    """time_of_contact reached max_iterations before it could say whether the meshes come
+    within the tolerance. This is not a contact: the motion is only known to be free of contact
+    on [0, time_reached]. Raise max_iterations, or a larger tolerance, to get an answer.
+
+    Attributes: ``iterations`` (the cap reached), ``time_reached`` (float in [0, 1])."""
+
+    iterations: int
+    time_reached: float
+
+
+class OutOfMemoryError(TocsinError, MemoryError):
+    """Memory for a mesh and its hierarchy could not be reserved (the process is left intact)."""

@@ -21,13 +21,11 @@ def plot_contact(
     """Draws mesh1 at pose1 (blue) and mesh2 at pose2 (orange), world frame, with the witness
     points of `result` (a ContactResult or DistanceResult; computed with tocsin.distance when
     omitted) and the normal from body 1 to body 2 as an arrow. Writes a PNG to `path` when given
-    and returns the matplotlib figure. Needs matplotlib (pip install "tocsin[plot]")."""
+    and returns the matplotlib figure. With `path` and no `ax`, the figure is drawn off screen
+    without pyplot (the process's matplotlib backend is left alone); without `path`, it is a
+    pyplot figure. Needs matplotlib (pip install "tocsin[plot]")."""
     try:
-        import matplotlib
-
-        if path is not None and ax is None:
-            matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
+        from matplotlib.figure import Figure
         from mpl_toolkits.mplot3d.art3d import Poly3DCollection
     except ImportError as e:  # pragma: no cover - exercised only without matplotlib
         raise TocsinError('plot_contact needs matplotlib: pip install "tocsin[plot]"') from e
@@ -43,7 +41,12 @@ def plot_contact(
         gap = q2 - q1
         normal = gap / np.linalg.norm(gap) if np.linalg.norm(gap) > 0 else np.array([0.0, 0.0, 1.0])
     if ax is None:
-        fig = plt.figure(figsize=(8, 6))
+        if path is not None:
+            fig = Figure(figsize=(8, 6))
+        else:
+            import matplotlib.pyplot as plt
+
+            fig = plt.figure(figsize=(8, 6))
         ax = fig.add_subplot(projection="3d")
     fig = ax.figure
     points = []

@@ -12,7 +12,7 @@ use std::f64::consts::TAU;
 /// anything is allocated.
 fn check_size(a: usize, b: usize) -> Result<(), MeshError> {
     match a.checked_mul(b).and_then(|n| n.checked_mul(2)) {
-        Some(n) if n <= super::MAX_ELEMENTS => Ok(()),
+        Some(n) if n <= super::MAX_ELEMENTS => super::reserve(n / 2 + a + b + 2, n),
         n => Err(MeshError::TooLarge {
             what: "triangles",
             count: n.unwrap_or(usize::MAX),

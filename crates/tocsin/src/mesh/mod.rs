@@ -31,6 +31,7 @@ impl TriMesh {
     /// (three vertex indices each), validating both and building the hierarchy.
     pub fn new(vertices: Vec<Vec3>, triangles: Vec<[u32; 3]>) -> Result<Self, MeshError> {
         validate(&vertices, triangles.iter().map(|t| t.map(i64::from)))?;
+        reserve(vertices.len(), triangles.len())?;
         let bvh = Bvh::build(&vertices, &triangles);
         Ok(Self {
             vertices,
@@ -43,6 +44,8 @@ impl TriMesh {
     /// reported as errors rather than wrapped. The inputs are copied, never modified.
     pub fn from_arrays(vertices: &[[f64; 3]], triangles: &[[i64; 3]]) -> Result<Self, MeshError> {
         validate_count("vertices", vertices.len())?;
+        validate_count("triangles", triangles.len())?;
+        reserve(vertices.len(), triangles.len())?;
         let verts: Vec<Vec3> = vertices.iter().map(|v| Vec3::from_array(*v)).collect();
         validate(&verts, triangles.iter().copied())?;
         // Every index is now known to be in 0..len <= i32::MAX, so the casts are lossless, and
@@ -105,6 +108,30 @@ impl TriMesh {
     }
 }
 
+/// Bytes a mesh needs per triangle while it is built and after: the hierarchy's two nodes of
+/// 136 bytes, the leaf corners (72) and their `f32` columns (36), distinct vertices (about 40),
+/// indices, and the build's temporaries (76), rounded up.
+const BYTES_PER_TRIANGLE: usize = 560;
+/// Bytes per vertex: its coordinates and the build's per-vertex marks.
+const BYTES_PER_VERTEX: usize = 32;
+
+/// Checks, before anything large is allocated, that the memory a mesh of this size needs can
+/// be reserved (a failed allocation later would abort the process, and in Python the
+/// interpreter): one reservation of the whole estimate, released at once.
+pub fn reserve(num_vertices: usize, num_triangles: usize) -> Result<(), MeshError> {
+    let bytes = num_triangles
+        .saturating_mul(BYTES_PER_TRIANGLE)
+        .saturating_add(num_vertices.saturating_mul(BYTES_PER_VERTEX));
+    let mut probe: Vec<u8> = Vec::new();
+    probe
+        .try_reserve_exact(bytes)
+        .map_err(|_| MeshError::OutOfMemory {
+            triangles: num_triangles,
+            vertices: num_vertices,
+            bytes,
+        })
+}
+
 fn validate_count(what: &'static str, count: usize) -> Result<(), MeshError> {
     if count > MAX_ELEMENTS {
         return Err(MeshError::TooLarge { what, count });
@@ -121,6 +148,7 @@ fn validate(
     if triangles.len() == 0 {
         return Err(MeshError::NoTriangles);
     }
+    let mut magnitude: f64 = 0.0;
     for (vertex, v) in vertices.iter().enumerate() {
         for (k, axis) in ['x', 'y', 'z'].into_iter().enumerate() {
             if !v[k].is_finite() {
@@ -130,7 +158,18 @@ fn validate(
                     value: v[k],
                 });
             }
+            if v[k].abs() > crate::math::MAX_COORDINATE {
+                return Err(MeshError::CoordinateOutOfRange {
+                    vertex,
+                    axis,
+                    value: v[k],
+                });
+            }
+            magnitude = magnitude.max(v[k].abs());
         }
+    }
+    if magnitude > 0.0 && magnitude < crate::math::MIN_SCALE {
+        return Err(MeshError::TooSmall { magnitude });
     }
     let n = vertices.len() as i64;
     for (triangle, t) in triangles.enumerate() {

@@ -137,9 +137,7 @@ impl Motion {
     /// `NonlinearRigidMotion` with local centre 0.
     pub fn interp(start: Pose, end: Pose, center: Vec3) -> Result<Self, MotionError> {
         check_poses(&start, &end)?;
-        if !center.is_finite() {
-            return Err(MotionError::NonFinite);
-        }
+        crate::math::check_translation(center).map_err(MotionError::Pose)?;
         let angular = rotation_log(&(end.rotation * start.rotation.transpose()));
         let c0 = start.transform_point(center);
         let c1 = end.transform_point(center);
@@ -319,9 +317,7 @@ fn check_poses(start: &Pose, end: &Pose) -> Result<(), MotionError> {
     for p in [start, end] {
         crate::math::check_rotation(&p.rotation, crate::math::ROTATION_TOLERANCE)
             .map_err(MotionError::Pose)?;
-        if !p.translation.is_finite() {
-            return Err(MotionError::NonFinite);
-        }
+        crate::math::check_translation(p.translation).map_err(MotionError::Pose)?;
     }
     Ok(())
 }

@@ -1,0 +1,115 @@
+//! `tocsin.Motion` and `tocsin.orthonormalize`.
+
+use crate::convert::{matrix4_from, pose_from, pose_to_numpy, vec3_from};
+use crate::errors::{error, motion_error};
+use numpy::PyArray2;
+use pyo3::prelude::*;
+use tocsin::{Pose, Vec3};
+
+/// A rigid motion over t in [0, 1] from a start to an end pose (4x4 rigid transforms, world
+/// frame). Build one with Motion.translation, Motion.interp, Motion.screw or
+/// Motion.stationary; pose_at(t) gives the pose along the way, within rounding of start at
+/// t = 0 and of end at t = 1 for every rotation angle in [0, pi].
+#[pyclass(frozen, module = "tocsin._core")]
+pub(crate) struct Motion {
+    pub(crate) inner: tocsin::Motion,
+}
+
+#[pymethods]
+impl Motion {
+    /// Pure translation; `end` must have the rotation of `start` (within 1e-9).
+    #[staticmethod]
+    fn translation(start: &Bound<'_, PyAny>, end: &Bound<'_, PyAny>) -> PyResult<Self> {
+        let py = start.py();
+        let (a, b) = (pose_from(start, "start")?, pose_from(end, "end")?);
+        let inner = tocsin::Motion::translation(a, b).map_err(|e| motion_error(py, e))?;
+        Ok(Self { inner })
+    }
+
+    /// The body-frame point `center` (three numbers; default: the origin) moves on a straight
+    /// line while the body turns about it at constant angular velocity.
+    #[staticmethod]
+    #[pyo3(signature = (start, end, center=None))]
+    fn interp(
+        start: &Bound<'_, PyAny>,
+        end: &Bound<'_, PyAny>,
+        center: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<Self> {
+        let py = start.py();
+        let (a, b) = (pose_from(start, "start")?, pose_from(end, "end")?);
+        let c = match center {
+            Some(c) => vec3_from(c, "center", "MotionError")?,
+            None => Vec3::ZERO,
+        };
+        let inner = tocsin::Motion::interp(a, b, c).map_err(|e| motion_error(py, e))?;
+        Ok(Self { inner })
+    }
+
+    /// The SE(3) geodesic: rotation about a fixed axis with translation along it. A relative
+    /// rotation below 1e-15 rad is a translation.
+    #[staticmethod]
+    fn screw(start: &Bound<'_, PyAny>, end: &Bound<'_, PyAny>) -> PyResult<Self> {
+        let py = start.py();
+        let (a, b) = (pose_from(start, "start")?, pose_from(end, "end")?);
+        let inner = tocsin::Motion::screw(a, b).map_err(|e| motion_error(py, e))?;
+        Ok(Self { inner })
+    }
+
+    /// A body that stays at `pose`.
+    #[staticmethod]
+    fn stationary(pose: &Bound<'_, PyAny>) -> PyResult<Self> {
+        Ok(Self {
+            inner: tocsin::Motion::stationary(pose_from(pose, "pose")?),
+        })
+    }
+
+    /// The pose at time t (a finite real; the motion is defined on [0, 1]) as a 4x4 array.
+    fn pose_at<'py>(&self, py: Python<'py>, t: f64) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        if !t.is_finite() {
+            return Err(error(
+                py,
+                "OptionsError",
+                format!("t must be finite, got {t}"),
+            ));
+        }
+        pose_to_numpy(py, &self.inner.pose_at(t))
+    }
+
+    /// "translation", "interp" or "screw".
+    #[getter]
+    fn kind(&self) -> &'static str {
+        match self.inner.kind() {
+            tocsin::MotionKind::Translation => "translation",
+            tocsin::MotionKind::Interp => "interp",
+            _ => "screw",
+        }
+    }
+
+    fn __repr__(&self) -> String {
+        format!("Motion.{}(...)", self.kind())
+    }
+}
+
+/// A copy of the 4x4 pose with its rotation block replaced by the nearest rotation, for input
+/// whose rotations were rounded (written to six digits, say), which the 1e-6 rigidity check of
+/// every query rejects. Raises PoseError when the block is farther than `max_error` from
+/// orthonormal (entry-wise |R^T R - I|) or is a reflection. Never called implicitly.
+#[pyfunction]
+#[pyo3(signature = (pose, max_error=1e-3))]
+pub(crate) fn orthonormalize<'py>(
+    py: Python<'py>,
+    pose: &Bound<'_, PyAny>,
+    max_error: f64,
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    if !(max_error.is_finite() && max_error >= 0.0) {
+        return Err(error(
+            py,
+            "OptionsError",
+            format!("max_error must be finite and non-negative, got {max_error}"),
+        ));
+    }
+    let m = matrix4_from(pose, "pose")?;
+    let fixed = Pose::from_matrix_orthonormalized(&m, max_error)
+        .map_err(|e| error(py, "PoseError", format!("pose: {e}")))?;
+    pose_to_numpy(py, &fixed)
+}

@@ -1,0 +1,87 @@
+"""tocsin under multiprocessing (fork, forkserver, spawn), process pools and threads.
+
+Regression: after any mesh build in a parent, a child made by os.fork() hung forever on its
+first mesh build or batch (rayon's global pool has no threads in the child)."""
+
+import concurrent.futures as cf
+import multiprocessing as mp
+import os
+import sys
+
+import numpy as np
+import pytest
+
+import tocsin
+
+
+def _work(seed: int) -> tuple[float, int]:
+    """A mesh build (parallel), a distance batch (parallel) and a time of contact."""
+    knot = tocsin.Mesh.torus_knot(60 + seed, 8)
+    poses = np.tile(np.eye(4), (8, 1, 1))
+    poses[:, 0, 3] = np.linspace(7.0, 9.0, 8)
+    batch = tocsin.distance_batch(knot, poses, knot, np.eye(4))
+    start, end = np.eye(4), np.eye(4)
+    start[0, 3], end[0, 3] = -12.0, 12.0
+    c = tocsin.time_of_contact(knot, tocsin.Motion.translation(start, end), knot, tocsin.Motion.stationary(np.eye(4)))
+    assert c is not None
+    return float(batch.distance.sum()), knot.num_triangles
+
+
+def _expected(seeds):
+    return [_work(s) for s in seeds]
+
+
+def _warm_parent():
+    # The parent builds (and so starts its thread pool) before forking: the case that hung.
+    tocsin.Mesh.torus_knot(100, 10)
+    tocsin.distance_batch(tocsin.Mesh.box([1, 1, 1]), np.tile(np.eye(4), (4, 1, 1)), tocsin.Mesh.box([1, 1, 1]), np.eye(4))
+
+
+@pytest.mark.parametrize("method", ["fork", "forkserver", "spawn"])
+def test_multiprocessing_pool(method):
+    if method not in mp.get_all_start_methods():
+        pytest.fail(f"start method {method} missing on {sys.platform}")
+    _warm_parent()
+    seeds = [0, 1, 2, 3]
+    with mp.get_context(method).Pool(2) as pool:
+        got = pool.map_async(_work, seeds).get(timeout=120)
+    assert got == _expected(seeds)
+
+
+def test_process_pool_executor_with_fork():
+    _warm_parent()
+    with cf.ProcessPoolExecutor(2, mp_context=mp.get_context("fork")) as ex:
+        got = list(ex.map(_work, [5, 6], timeout=120))
+    assert got == _expected([5, 6])
+
+
+def test_bare_os_fork_child_builds_and_exits():
+    _warm_parent()
+    pid = os.fork()
+    if pid == 0:  # the child: a build and a batch, then report through the exit status
+        try:
+            _work(7)
+            os._exit(0)
+        except BaseException:
+            os._exit(3)
+    deadline_status = None
+    for _ in range(1200):  # up to 120 s
+        done, status = os.waitpid(pid, os.WNOHANG)
+        if done:
+            deadline_status = status
+            break
+        import time
+
+        time.sleep(0.1)
+    if deadline_status is None:
+        os.kill(pid, 9)
+        os.waitpid(pid, 0)
+        pytest.fail("the forked child hung")
+    assert os.waitstatus_to_exitcode(deadline_status) == 0
+
+
+def test_threads_give_the_single_thread_answers():
+    seeds = list(range(6))
+    expected = _expected(seeds)
+    with cf.ThreadPoolExecutor(4) as ex:
+        assert list(ex.map(_work, seeds)) == expected
