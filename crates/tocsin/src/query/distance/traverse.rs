@@ -359,22 +359,29 @@ impl<'a> DistanceSearch<'a> {
             let bounds = self
                 .lanes
                 .expansion_bounds(&e, nodes1, nodes2, &self.rot12, self.trans12);
-            // Ties (volumes that overlap, bound 0) go to the pair with the nearest centres.
-            let key = |k: usize| {
+            // Ties go to the pair with the nearest centres, computed only for tied lanes:
+            // volumes that overlap (bound 0), and bounds within the rounding slack of each
+            // other (parallel faces: by the last bits of their bounds the dive drifted to
+            // pairs that overlap less and less, and ended 20 times the minimum away).
+            let centres = |k: usize| {
                 let (c1, c2) = e.pair(k);
                 let (a, b) = (&nodes1[c1 as usize].rss, &nodes2[c2 as usize].rss);
-                let centres = (a.center - (self.rot12 * b.center + self.trans12)).length_squared();
-                (bounds.gap[k], centres)
+                (a.center - (self.rot12 * b.center + self.trans12)).length_squared()
             };
-            let k = e
-                .lanes
-                .iter()
-                .copied()
-                .min_by(|&i, &j| {
-                    let (ki, kj) = (key(i), key(j));
-                    ki.0.total_cmp(&kj.0).then(ki.1.total_cmp(&kj.1))
-                })
-                .unwrap_or(0);
+            let tie = 2.0 * self.slack;
+            let mut k = e.lanes[0];
+            let mut k_centres = None;
+            for &j in &e.lanes[1..] {
+                if bounds.gap[j] < bounds.gap[k] - tie {
+                    (k, k_centres) = (j, None);
+                } else if bounds.gap[j] <= bounds.gap[k] + tie {
+                    let current = *k_centres.get_or_insert_with(|| centres(k));
+                    let other = centres(j);
+                    if other < current {
+                        (k, k_centres) = (j, Some(other));
+                    }
+                }
+            }
             (n1, n2) = e.pair(k);
         }
         self.leaf_nodes(n1, n2);
