@@ -69,7 +69,10 @@ struct MotionArgs {
 impl MotionArgs {
     /// Loads the meshes, parses the motions and runs the time-of-contact query.
     fn run(&self) -> Result<(TriMesh, Motion, TriMesh, Motion, Option<ContactTime>), String> {
-        let (m1, m2) = (spec::load_mesh(&self.mesh1)?, spec::load_mesh(&self.mesh2)?);
+        let (m1, m2) = (
+            spec::load_mesh(&self.mesh1, None)?,
+            spec::load_mesh(&self.mesh2, None)?,
+        );
         let mo1 = motion_arg(self.motion1.as_deref(), "motion1")?;
         let mo2 = motion_arg(self.motion2.as_deref(), "motion2")?;
         let opts = ContactOptions {
@@ -149,9 +152,9 @@ fn motion_arg(text: Option<&str>, which: &str) -> Result<Motion, String> {
 fn run(cli: Cli) -> Result<serde_json::Value, String> {
     let setup = |p: &PairArgs| -> Result<_, String> {
         Ok((
-            spec::load_mesh(&p.mesh1)?,
+            spec::load_mesh(&p.mesh1, None)?,
             pose_arg(p.pose1.as_deref(), "pose1")?,
-            spec::load_mesh(&p.mesh2)?,
+            spec::load_mesh(&p.mesh2, None)?,
             pose_arg(p.pose2.as_deref(), "pose2")?,
         ))
     };
@@ -227,14 +230,27 @@ fn run(cli: Cli) -> Result<serde_json::Value, String> {
     }
 }
 
-fn main() -> ExitCode {
-    match run(Cli::parse()) {
-        Ok(v) => {
-            println!("{v}");
-            ExitCode::SUCCESS
+/// Writes the result line. A reader that closed the pipe early (`tocsin ... | head -c 10`)
+/// ends the program quietly and successfully, as with other Unix filters; any other write
+/// failure (a full disk) is an error. `println!` panicked on both (exit 101).
+fn emit(v: &serde_json::Value) -> Result<(), String> {
+    use std::io::Write;
+    let mut out = std::io::stdout().lock();
+    match writeln!(out, "{v}").and_then(|()| out.flush()) {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
+            Err(format!("cannot write the result: {e}"))
         }
+        _ => Ok(()),
+    }
+}
+
+fn main() -> ExitCode {
+    match run(Cli::parse()).and_then(|v| emit(&v)) {
+        Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("tocsin: {e}");
+            // stderr may be closed too; nothing more can be said then.
+            use std::io::Write;
+            let _ = writeln!(std::io::stderr(), "tocsin: {e}");
             ExitCode::from(2)
         }
     }

@@ -123,12 +123,18 @@ pub fn render(
             }
         }
     }
-    let file = std::fs::File::create(path).map_err(|e| format!("cannot write {path}: {e}"))?;
-    let mut enc = png::Encoder::new(std::io::BufWriter::new(file), width as u32, height as u32);
-    enc.set_color(png::ColorType::Rgb);
-    enc.set_depth(png::BitDepth::Eight);
-    let mut writer = enc.write_header().map_err(|e| format!("{path}: {e}"))?;
-    writer
-        .write_image_data(&canvas.rgb)
-        .map_err(|e| format!("{path}: {e}"))
+    // Encoded in memory, then written in one call whose every error is reported (a buffered
+    // file writer dropped at the end lost "no space left on device").
+    let mut bytes = Vec::new();
+    {
+        let mut enc = png::Encoder::new(&mut bytes, width as u32, height as u32);
+        enc.set_color(png::ColorType::Rgb);
+        enc.set_depth(png::BitDepth::Eight);
+        let mut writer = enc.write_header().map_err(|e| format!("{path}: {e}"))?;
+        writer
+            .write_image_data(&canvas.rgb)
+            .map_err(|e| format!("{path}: {e}"))?;
+        writer.finish().map_err(|e| format!("{path}: {e}"))?;
+    }
+    std::fs::write(path, &bytes).map_err(|e| format!("cannot write {path}: {e}"))
 }

@@ -12,7 +12,9 @@
 //!       "tolerance": 0.001 } ] }
 //! ```
 //! Poses are 3, 6 or 16 numbers as on the command line; a missing pose is the identity and a
-//! missing motion keeps the body at the identity.
+//! missing motion keeps the body at the identity. Relative mesh paths are taken from the scene
+//! file's folder. A key given twice (a mesh name, a query field) is an error, not "the last
+//! one wins".
 
 use crate::spec::{contact_json, distance_json, load_mesh, motion_from, pose_from_values};
 use serde::Deserialize;
@@ -27,8 +29,39 @@ use tocsin::{
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct Scene {
-    meshes: BTreeMap<String, String>,
+    meshes: UniqueMap,
     queries: Vec<Query>,
+}
+
+/// Mesh names to specs; a name given twice is an error (serde's maps keep the last silently).
+struct UniqueMap(BTreeMap<String, String>);
+
+impl<'de> Deserialize<'de> for UniqueMap {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct Visitor;
+        impl<'de> serde::de::Visitor<'de> for Visitor {
+            type Value = UniqueMap;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a map of mesh names to paths or builtin:NAME")
+            }
+            fn visit_map<A: serde::de::MapAccess<'de>>(
+                self,
+                mut map: A,
+            ) -> Result<UniqueMap, A::Error> {
+                let mut out = BTreeMap::new();
+                while let Some((k, v)) = map.next_entry::<String, String>()? {
+                    if out.contains_key(&k) {
+                        return Err(serde::de::Error::custom(format!(
+                            "mesh `{k}` is defined twice"
+                        )));
+                    }
+                    out.insert(k, v);
+                }
+                Ok(UniqueMap(out))
+            }
+        }
+        d.deserialize_map(Visitor)
+    }
 }
 
 #[derive(Deserialize)]
@@ -90,7 +123,11 @@ fn motion(spec: &Option<MotionSpec>, what: &str) -> Result<Motion, String> {
         pose_from_values(&m.start, what)?,
         pose_from_values(&m.end, what)?,
     );
-    motion_from(&m.kind, start, end, m.center.map(Vec3::from_array), what)
+    let center = m.center.map(Vec3::from_array);
+    if center.is_some_and(|c| !c.is_finite()) {
+        return Err(format!("{what}: the centre is not finite"));
+    }
+    motion_from(&m.kind, start, end, center, what)
 }
 
 /// Reads and runs a scene file; returns `{"results": [...]}` in the order of the queries.
@@ -106,13 +143,15 @@ pub fn run(path: &str) -> Result<Value, String> {
     } else {
         serde_json::from_str(&text).map_err(|e| format!("{path}: {e}"))?
     };
+    let base = std::path::Path::new(path).parent();
     let meshes: BTreeMap<&str, TriMesh> = scene
         .meshes
+        .0
         .iter()
         .map(|(name, spec)| {
             Ok((
                 name.as_str(),
-                load_mesh(spec).map_err(|e| format!("mesh `{name}`: {e}"))?,
+                load_mesh(spec, base).map_err(|e| format!("mesh `{name}`: {e}"))?,
             ))
         })
         .collect::<Result<_, String>>()?;

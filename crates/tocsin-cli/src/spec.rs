@@ -6,10 +6,18 @@ use tocsin::{
     mesh, ContactStatus, ContactTime, DistanceResult, Mat3, Mat4, Motion, Pose, TriMesh, Vec3,
 };
 
-/// A mesh from a path (.obj, .stl, .ply) or `builtin:NAME`.
-pub fn load_mesh(spec: &str) -> Result<TriMesh, String> {
+/// A mesh from a path (.obj, .stl, .ply; a relative path is taken from `base`, the scene
+/// file's folder, or the working directory when `None`) or `builtin:NAME`.
+pub fn load_mesh(spec: &str, base: Option<&std::path::Path>) -> Result<TriMesh, String> {
     let built = match spec.strip_prefix("builtin:") {
-        None => return TriMesh::load(spec).map_err(|e| e.to_string()),
+        None => {
+            let path = std::path::Path::new(spec);
+            let path = match base {
+                Some(dir) if path.is_relative() => dir.join(path),
+                _ => path.to_path_buf(),
+            };
+            return TriMesh::load(&path).map_err(|e| e.to_string());
+        }
         Some("knot2.8k") => mesh::torus_knot(175, 8),
         Some("knot11k") => mesh::torus_knot(344, 16),
         Some("knot34k") => mesh::torus_knot(680, 25),
@@ -28,6 +36,9 @@ pub fn load_mesh(spec: &str) -> Result<TriMesh, String> {
 /// A pose from 3 numbers (translation), 6 (translation, rotation vector in radians) or 16
 /// (a 4x4 matrix, row-major), checked to be rigid.
 pub fn pose_from_values(values: &[f64], what: &str) -> Result<Pose, String> {
+    if let Some(bad) = values.iter().find(|v| !v.is_finite()) {
+        return Err(format!("{what}: {bad} is not a finite number"));
+    }
     let pose = match values.len() {
         3 => Pose::new(Mat3::IDENTITY, Vec3::from_slice(values)),
         6 => {
@@ -46,13 +57,14 @@ pub fn pose_from_values(values: &[f64], what: &str) -> Result<Pose, String> {
     pose.map_err(|e| format!("{what}: {e}"))
 }
 
-/// Comma-separated numbers.
+/// Comma-separated finite numbers (NaN and infinities are refused: a NaN rotation vector was
+/// once read as no rotation).
 pub fn numbers(text: &str, what: &str) -> Result<Vec<f64>, String> {
     text.split(',')
-        .map(|s| {
-            s.trim()
-                .parse::<f64>()
-                .map_err(|_| format!("{what}: `{s}` is not a number"))
+        .map(|s| match s.trim().parse::<f64>() {
+            Ok(v) if v.is_finite() => Ok(v),
+            Ok(_) => Err(format!("{what}: `{s}` is not a finite number")),
+            Err(_) => Err(format!("{what}: `{s}` is not a number")),
         })
         .collect()
 }

@@ -247,3 +247,152 @@ fn bad_input_is_one_line_and_status_2() {
         assert!(err.starts_with("tocsin: "), "{err}");
     }
 }
+
+#[test]
+fn non_finite_numbers_are_refused() {
+    // `--pose2 3,0,0,nan,0,0` was read as "no rotation" and exited 0 with a wrong answer.
+    for pose in [
+        "3,0,0,nan,0,0",
+        "3,0,0,0,inf,0",
+        "nan,0,0",
+        "3,0,0,0,0,-inf",
+    ] {
+        let (code, out, err) = tocsin(&["distance", "builtin:box", "builtin:box", "--pose2", pose]);
+        assert_eq!(code, 2, "{pose}: {out}");
+        assert!(err.contains("not a finite number"), "{pose}: {err}");
+    }
+    let (code, _, err) = tocsin(&[
+        "contact-time",
+        "builtin:box",
+        "builtin:box",
+        "--motion1",
+        "interp:-3,0,0:3,0,0:0,nan,0",
+    ]);
+    assert_eq!(code, 2);
+    assert!(err.contains("finite"), "{err}");
+    let toml = scene_file(
+        "nan.toml",
+        "[meshes]\na = \"builtin:box\"\n[[queries]]\nquery = \"distance\"\nmesh1 = \"a\"\nmesh2 = \"a\"\npose2 = [3.0, 0.0, 0.0, nan, 0.0, 0.0]\n",
+    );
+    let (code, _, err) = tocsin(&["run", &toml]);
+    assert_eq!(code, 2);
+    assert!(err.contains("not a finite number"), "{err}");
+}
+
+#[test]
+fn an_iteration_cap_is_an_error_not_a_contact() {
+    let (code, out, err) = tocsin(&[
+        "contact-time",
+        "builtin:knot2.8k",
+        "builtin:knot2.8k",
+        "--motion1",
+        "translation:-12,0,0:12,0,0",
+        "--max-iterations",
+        "1",
+    ]);
+    assert_eq!(code, 2, "{out}");
+    assert!(err.contains("no answer within 1 iterations"), "{err}");
+    assert!(out.is_empty());
+}
+
+#[test]
+fn closed_pipes_and_full_disks() {
+    use std::io::Read;
+    use std::process::Stdio;
+    // A reader that stops early: a quiet, successful end (it was a panic, exit 101).
+    let mut child = Command::new(env!("CARGO_BIN_EXE_tocsin"))
+        .args([
+            "collide",
+            "builtin:knot34k",
+            "builtin:knot34k",
+            "--pairs",
+            "--pose2",
+            "0.5,0,0",
+        ])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut first = [0u8; 4];
+    child.stdout.take().unwrap().read_exact(&mut first).unwrap(); // then the pipe closes
+    let status = child.wait().unwrap();
+    let mut err = String::new();
+    child
+        .stderr
+        .take()
+        .unwrap()
+        .read_to_string(&mut err)
+        .unwrap();
+    assert_eq!(status.code(), Some(0), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+    // A full disk is an error with status 2, for the result and for a picture.
+    if std::path::Path::new("/dev/full").exists() {
+        let full = std::fs::OpenOptions::new()
+            .write(true)
+            .open("/dev/full")
+            .unwrap();
+        let out = Command::new(env!("CARGO_BIN_EXE_tocsin"))
+            .args(["distance", "builtin:box", "builtin:box", "--pose2", "3,0,0"])
+            .stdout(full)
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(2));
+        assert!(String::from_utf8_lossy(&out.stderr).contains("No space left"));
+        let (code, _, err) = tocsin(&[
+            "render-contact",
+            "builtin:box",
+            "builtin:box",
+            "--motion1",
+            "translation:-3,0,0:3,0,0",
+            "--out",
+            "/dev/full",
+        ]);
+        assert_eq!(code, 2);
+        assert!(err.contains("No space left"), "{err}");
+    }
+}
+
+#[test]
+fn scene_keys_given_twice_are_errors_and_paths_are_relative_to_the_scene() {
+    let twice = scene_file(
+        "twice.json",
+        r#"{"meshes": {"a": "builtin:box", "a": "builtin:sphere"}, "queries": []}"#,
+    );
+    let (code, _, err) = tocsin(&["run", &twice]);
+    assert_eq!(code, 2);
+    assert!(err.contains("defined twice"), "{err}");
+    let field_twice = scene_file(
+        "field.json",
+        r#"{"meshes": {"a": "builtin:box"}, "queries": [{"query": "within", "mesh1": "a", "mesh2": "a", "threshold": 1, "threshold": 2}]}"#,
+    );
+    let (code, _, err) = tocsin(&["run", &field_twice]);
+    assert_eq!(code, 2);
+    assert!(err.contains("duplicate"), "{err}");
+    // A mesh beside the scene file, run from another working directory.
+    let dir = std::env::temp_dir().join(format!("tocsin-rel-{}", std::process::id()));
+    std::fs::create_dir_all(dir.join("parts")).unwrap();
+    std::fs::write(
+        dir.join("parts/tri.obj"),
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
+    )
+    .unwrap();
+    let scene = dir.join("scene.json");
+    std::fs::write(
+        &scene,
+        r#"{"meshes": {"t": "parts/tri.obj"}, "queries": [{"query": "distance", "mesh1": "t", "mesh2": "t", "pose2": [0, 0, 2]}]}"#,
+    )
+    .unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_tocsin"))
+        .args(["run", scene.to_str().unwrap()])
+        .current_dir(std::env::temp_dir())
+        .output()
+        .unwrap();
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert!((v["results"][0]["distance"].as_f64().unwrap() - 2.0).abs() < 1e-12);
+}
