@@ -5,8 +5,6 @@ import pytest
 
 import tocsin
 
-pytest.importorskip("matplotlib")
-
 
 def test_plot_contact_writes_png(tmp_path):
     knot = tocsin.Mesh.torus_knot(60, 6)

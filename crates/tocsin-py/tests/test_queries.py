@@ -208,7 +208,7 @@ def test_from_trimesh_duck_type():
 
 
 def test_from_real_trimesh():
-    trimesh = pytest.importorskip("trimesh")
+    import trimesh
     box = trimesh.creation.box(extents=[1.0, 1.0, 1.0])
     m = tocsin.Mesh.from_trimesh(box)
     assert m.num_triangles == len(box.faces)

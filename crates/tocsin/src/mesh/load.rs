@@ -1,5 +1,15 @@
-//! Reading OBJ (tobj), STL ASCII and binary (stl_io) and PLY ASCII and binary (ply-rs-bw).
+//! Reading OBJ (tobj), binary STL (stl_io), ASCII STL (here) and PLY (ply-rs-bw).
 //! Each reader returns raw vertices and triangles; validation happens in `TriMesh::new`.
+//!
+//! Decisions, each from a file seen in the wild:
+//! - A UTF-8 byte-order mark is skipped (it swallowed an OBJ's first vertex).
+//! - OBJ points (`p`), polylines (`l`) and faces of fewer than three vertices (a truncated last
+//!   line included) are not surfaces and are skipped: tobj turned them into zero-area
+//!   triangles, 19 of them up to 0.39 mm off pybullet's Panda `link6.obj`.
+//! - ASCII STL is read here rather than by stl_io, which rejected `facet normal nan nan nan`
+//!   (CAD exporters write it for degenerate facets; normals are ignored anyway) and kept only
+//!   the first `solid` of a file with several. All solids are kept; coordinates are read as
+//!   `f64`; identical vertices are merged, as stl_io does for binary files.
 
 use std::io::Cursor;
 use std::path::Path;
@@ -28,6 +38,7 @@ pub(super) fn load_file(path: &Path) -> Result<Raw, MeshError> {
         path: path.to_path_buf(),
         source,
     })?;
+    let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(&bytes);
     let parse_error = |line, message: String| MeshError::Parse {
         path: path.to_path_buf(),
         format,
@@ -35,9 +46,10 @@ pub(super) fn load_file(path: &Path) -> Result<Raw, MeshError> {
         message,
     };
     match format {
-        "OBJ" => read_obj(&bytes).map_err(|(line, m)| parse_error(line, m)),
-        "STL" => read_stl(&bytes).map_err(|m| parse_error(None, m)),
-        _ => read_ply(&bytes).map_err(|m| parse_error(None, m)),
+        "OBJ" => read_obj(bytes).map_err(|(line, m)| parse_error(line, m)),
+        "STL" if is_binary_stl(bytes) => read_binary_stl(bytes).map_err(|m| parse_error(None, m)),
+        "STL" => read_ascii_stl(bytes).map_err(|(line, m)| parse_error(line, m)),
+        _ => read_ply(bytes).map_err(|m| parse_error(None, m)),
     }
 }
 
@@ -49,9 +61,14 @@ fn read_obj(bytes: &[u8]) -> Result<Raw, (Option<usize>, String)> {
     let options = tobj::LoadOptions {
         triangulate: true,
         single_index: false,
+        ignore_points: true,
+        ignore_lines: true,
         ..Default::default()
     };
-    let mut reader = Cursor::new(bytes);
+    // tobj reads `l a b c` as a polygon face: blank out point and line statements first (line
+    // numbers stay as they were).
+    let surfaces = without_points_and_lines(bytes);
+    let mut reader = Cursor::new(&surfaces[..]);
     // Materials are irrelevant to geometry: never open .mtl files.
     let (models, _) = tobj::load_obj_buf(&mut reader, &options, |_| {
         Err(tobj::LoadError::GenericFailure)
@@ -78,6 +95,22 @@ fn read_obj(bytes: &[u8]) -> Result<Raw, (Option<usize>, String)> {
     Ok((vertices, triangles))
 }
 
+/// The OBJ text with every `p` and `l` statement replaced by an empty line.
+fn without_points_and_lines(bytes: &[u8]) -> Vec<u8> {
+    let mut out = Vec::with_capacity(bytes.len());
+    for line in bytes.split_inclusive(|&b| b == b'\n') {
+        let first = line
+            .split(|b| b.is_ascii_whitespace())
+            .find(|w| !w.is_empty());
+        if matches!(first, Some(b"l") | Some(b"p")) {
+            out.push(b'\n');
+        } else {
+            out.extend_from_slice(line);
+        }
+    }
+    out
+}
+
 /// tobj's errors carry no position: find the first `v` or `f` line that does not parse, so the
 /// user is told where to look.
 fn first_bad_obj_line(bytes: &[u8]) -> Option<usize> {
@@ -95,15 +128,14 @@ fn first_bad_obj_line(bytes: &[u8]) -> Option<usize> {
             }
             Some("f") => {
                 let refs: Vec<&str> = words.collect();
-                let ok = refs.len() >= 3
-                    && refs.iter().all(|r| {
-                        r.split('/')
-                            .next()
-                            .and_then(|s| s.parse::<i64>().ok())
-                            .is_some_and(|k| {
-                                (k > 0 && k <= num_vertices) || (k < 0 && -k <= num_vertices)
-                            })
-                    });
+                let ok = refs.iter().all(|r| {
+                    r.split('/')
+                        .next()
+                        .and_then(|s| s.parse::<i64>().ok())
+                        .is_some_and(|k| {
+                            (k > 0 && k <= num_vertices) || (k < 0 && -k <= num_vertices)
+                        })
+                });
                 if !ok {
                     return Some(i + 1);
                 }
@@ -114,7 +146,19 @@ fn first_bad_obj_line(bytes: &[u8]) -> Option<usize> {
     None
 }
 
-fn read_stl(bytes: &[u8]) -> Result<Raw, String> {
+/// A binary STL: an 80-byte header, a triangle count, and exactly 50 bytes per triangle. Some
+/// binary files begin with "solid" too, so the size decides, not the first word.
+fn is_binary_stl(bytes: &[u8]) -> bool {
+    match bytes.get(80..84) {
+        Some(n) => {
+            let n = u32::from_le_bytes([n[0], n[1], n[2], n[3]]) as usize;
+            n.checked_mul(50).and_then(|b| b.checked_add(84)) == Some(bytes.len())
+        }
+        None => false,
+    }
+}
+
+fn read_binary_stl(bytes: &[u8]) -> Result<Raw, String> {
     let mesh = stl_io::read_stl(&mut Cursor::new(bytes)).map_err(|e| e.to_string())?;
     let vertices = mesh
         .vertices
@@ -132,6 +176,89 @@ fn read_stl(bytes: &[u8]) -> Result<Raw, String> {
             ])
         })
         .collect::<Result<_, String>>()?;
+    Ok((vertices, triangles))
+}
+
+/// ASCII STL: `solid`, then facets of `facet normal`, `outer loop`, three `vertex x y z`,
+/// `endloop`, `endfacet`, then `endsolid`; any number of solids. Keywords are matched without
+/// case; normals are not read (NaN is common there). A facet of more than three vertices is
+/// fanned; one of fewer is an error.
+fn read_ascii_stl(bytes: &[u8]) -> Result<Raw, (Option<usize>, String)> {
+    let text = std::str::from_utf8(bytes).map_err(|e| {
+        (
+            None,
+            format!("neither a binary STL (wrong size) nor ASCII text ({e})"),
+        )
+    })?;
+    let mut vertices: Vec<Vec3> = Vec::new();
+    let mut index: std::collections::HashMap<[u64; 3], u32> = std::collections::HashMap::new();
+    let mut triangles = Vec::new();
+    let mut facet: Option<(usize, Vec<u32>)> = None; // (line, vertex indices)
+    let mut seen_solid = false;
+    for (i, line) in text.lines().enumerate() {
+        let n = i + 1;
+        let mut words = line.split_whitespace();
+        let Some(keyword) = words.next() else {
+            continue;
+        };
+        match keyword.to_ascii_lowercase().as_str() {
+            "solid" => seen_solid = true,
+            "facet" => {
+                if facet.is_some() {
+                    return Err((Some(n), "`facet` inside a facet".into()));
+                }
+                facet = Some((n, Vec::with_capacity(3)));
+            }
+            "vertex" => {
+                let Some((_, corners)) = facet.as_mut() else {
+                    return Err((Some(n), "`vertex` outside a facet".into()));
+                };
+                let coords: Vec<f64> = words
+                    .map(str::parse::<f64>)
+                    .collect::<Result<_, _>>()
+                    .map_err(|e| (Some(n), format!("bad vertex coordinate: {e}")))?;
+                let &[x, y, z] = coords.as_slice() else {
+                    return Err((
+                        Some(n),
+                        format!("a vertex needs 3 numbers, got {}", coords.len()),
+                    ));
+                };
+                let key = [x.to_bits(), y.to_bits(), z.to_bits()];
+                let id = match index.get(&key) {
+                    Some(&id) => id,
+                    None => {
+                        let id = index_u32(vertices.len()).map_err(|m| (Some(n), m))?;
+                        vertices.push(Vec3::new(x, y, z));
+                        index.insert(key, id);
+                        id
+                    }
+                };
+                corners.push(id);
+            }
+            "endfacet" => {
+                let Some((start, corners)) = facet.take() else {
+                    return Err((Some(n), "`endfacet` without `facet`".into()));
+                };
+                if corners.len() < 3 {
+                    return Err((
+                        Some(start),
+                        format!("a facet has {} vertices, 3 are needed", corners.len()),
+                    ));
+                }
+                for j in 1..corners.len() - 1 {
+                    triangles.push([corners[0], corners[j], corners[j + 1]]);
+                }
+            }
+            "outer" | "endloop" | "endsolid" => {}
+            other => return Err((Some(n), format!("unexpected `{other}`"))),
+        }
+    }
+    if let Some((start, _)) = facet {
+        return Err((Some(start), "the file ends inside a facet".into()));
+    }
+    if !seen_solid {
+        return Err((None, "no `solid`: not an ASCII STL".into()));
+    }
     Ok((vertices, triangles))
 }
 
