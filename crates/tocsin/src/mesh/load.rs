@@ -63,7 +63,6 @@ fn read_obj(bytes: &[u8]) -> Result<Raw, (Option<usize>, String)> {
         single_index: false,
         ignore_points: true,
         ignore_lines: true,
-        ..Default::default()
     };
     // tobj reads `l a b c` as a polygon face: blank out point and line statements first (line
     // numbers stay as they were).
