@@ -17,7 +17,8 @@ pub(crate) struct Motion {
 
 #[pymethods]
 impl Motion {
-    /// Pure translation; `end` must have the rotation of `start` (within 1e-9).
+    /// Pure translation: X(t) = R0 x + (1 - t) p0 + t p1. The rotations of start and end must
+    /// agree within 1e-9, else MotionError.
     #[staticmethod]
     fn translation(start: &Bound<'_, PyAny>, end: &Bound<'_, PyAny>) -> PyResult<Self> {
         let py = start.py();
@@ -26,8 +27,10 @@ impl Motion {
         Ok(Self { inner })
     }
 
-    /// The body-frame point `center` (three numbers; default: the origin) moves on a straight
-    /// line while the body turns about it at constant angular velocity.
+    /// The body point `center` (body frame, three numbers; default: the origin) moves on a
+    /// straight line; the body turns about it at constant angular velocity,
+    /// R(t) = exp(t log(R1 R0^T)) R0 (angle in [0, pi]). With center = 0 this is FCL's
+    /// InterpMotion.
     #[staticmethod]
     #[pyo3(signature = (start, end, center=None))]
     fn interp(
@@ -45,8 +48,8 @@ impl Motion {
         Ok(Self { inner })
     }
 
-    /// The SE(3) geodesic: rotation about a fixed axis with translation along it. A relative
-    /// rotation below 1e-15 rad is a translation.
+    /// The SE(3) geodesic T(t) = exp(t log(T1 T0^-1)) T0: rotation about a fixed world axis
+    /// with translation along it. A relative rotation below 1e-15 rad is a translation.
     #[staticmethod]
     fn screw(start: &Bound<'_, PyAny>, end: &Bound<'_, PyAny>) -> PyResult<Self> {
         let py = start.py();

@@ -69,7 +69,14 @@ fn every_kind_meets_its_endpoints_and_is_continuous_at_every_angle() {
                         ),
                 };
                 let scale = 1.0 + start.translation.length() + end.translation.length();
-                for m in all_kinds(start, end, Vec3::new(0.3, -0.2, 0.1)) {
+                let far_centre = random_unit(&mut rng) * 1e6;
+                let mut kinds = all_kinds(start, end, Vec3::new(0.3, -0.2, 0.1));
+                kinds.push(Motion::interp(start, end, far_centre).unwrap());
+                let far = kinds.len() - 1;
+                for (i, m) in kinds.into_iter().enumerate() {
+                    // The interp about a centre 1e6 away is as exact as its input: the start
+                    // rotation's rounding, times the centre's distance.
+                    let scale = if i == far { scale + 1e6 } else { scale };
                     let what = format!("{:?} at angle {angle:e}, spread {spread:e}", m.kind());
                     assert!(gap(&m.pose_at(0.0), &start, scale) < 1e-14, "start: {what}");
                     // A translation (and a screw below its smallest angle) keeps the start's
@@ -90,6 +97,7 @@ fn every_kind_meets_its_endpoints_and_is_continuous_at_every_angle() {
                         let t = k as f64 / 10.0;
                         let (a, b) = (m.pose_at(t), m.pose_at(t + 1e-9));
                         let speed = (end.translation - start.translation).length()
+                            + m.linear_velocity().length()
                             + m.angular_velocity().length() * scale;
                         assert!(
                             (b.translation - a.translation).length() < 1e-9 * speed + 1e-14 * scale,

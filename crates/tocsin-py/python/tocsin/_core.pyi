@@ -42,16 +42,18 @@ class Mesh:
         """A mesh from a trimesh.Trimesh (anything with .vertices (N, 3) and .faces (M, 3))."""
     @staticmethod
     def load(path: Union[str, PathLike[str]]) -> Mesh:
-        """Loads an OBJ, STL (ASCII or binary) or PLY file; polygons are triangulated.
+        """Loads an OBJ, STL (ASCII or binary, one or more solids) or PLY file; polygons are
+        triangulated, points and lines skipped.
         Raises MeshFileError if the file cannot be read, MeshError if its content is bad."""
     @staticmethod
     def torus_knot(n_u: int, n_v: int) -> Mesh:
-        """A (2,3) torus-knot tube with 2 * n_u * n_v triangles (knot radius ~3, tube 0.4)."""
+        """A (2,3) torus-knot tube with 2 * n_u * n_v triangles (knot radius ~3, tube 0.4);
+        n_u and n_v are positive integers, raised to at least 3."""
     @staticmethod
     def sphere(radius: float, n_lat: int, n_lon: int) -> Mesh:
         """A UV sphere centred at the origin."""
     @staticmethod
-    def box(half_extents: tuple[float, float, float] | list[float]) -> Mesh:
+    def box(half_extents: Union[Sequence[float], npt.NDArray[np.float64]]) -> Mesh:
         """An axis-aligned box centred at the origin (12 triangles)."""
     @staticmethod
     def plate(size: float, n: int) -> Mesh:
@@ -136,12 +138,13 @@ class Motion:
     @staticmethod
     def screw(start: ArrayLike, end: ArrayLike) -> Motion:
         """The SE(3) geodesic T(t) = exp(t log(T1 T0^-1)) T0: rotation about a fixed world axis
-        with translation along it."""
+        with translation along it. A relative rotation below 1e-15 rad is a translation."""
     @staticmethod
     def stationary(pose: ArrayLike) -> Motion:
         """A body that does not move."""
     def pose_at(self, t: float) -> npt.NDArray[np.float64]:
-        """The 4x4 pose at time t."""
+        """The pose at time t (a finite real; the motion is defined on [0, 1]) as a 4x4 array,
+        within rounding of start at t = 0 and of end at t = 1 for every angle in [0, pi]."""
     @property
     def kind(self) -> Literal["translation", "interp", "screw"]:
         """Which interpolation the motion follows."""

@@ -245,12 +245,15 @@ impl Motion {
                 translation: self.start.translation + self.linear * t,
             },
             MotionKind::Interp => {
-                let rotation = rotation_exp(self.angular * t) * self.start.rotation;
-                // The centre moves on a straight line; the body turns about it.
-                let centre = self.axis_start + self.linear * t;
+                // The centre moves on a straight line and the body turns about it:
+                // p(t) = c(t) - R(t) c = p0 + t v - (exp(t w) - I) R0 c, the last term taken
+                // without cancellation (the centre may be far from the body's origin).
+                let turn = self.angular * t;
+                let lever = self.start.rotation * self.axis_point;
                 Pose {
-                    rotation,
-                    translation: centre - rotation * self.axis_point,
+                    rotation: rotation_exp(turn) * self.start.rotation,
+                    translation: self.start.translation + self.linear * t
+                        - rotation::turn_displacement(turn, lever),
                 }
             }
             MotionKind::Screw => {

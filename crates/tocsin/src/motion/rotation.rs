@@ -116,3 +116,17 @@ pub(crate) fn jacobian_inverse_apply(phi: Vec3, x: Vec3) -> Vec3 {
     let px = phi.cross(x);
     x - 0.5 * px + c * phi.cross(px)
 }
+
+/// `(exp([phi]x) - I) x`, the displacement of `x` by the rotation `phi`, without forming
+/// `exp(phi) x - x` (which cancels when `x` is large and the turn small):
+/// `sin t (k x x) + 2 sin^2(t/2) k x (k x x)`, `k = phi / t`.
+pub(crate) fn turn_displacement(phi: Vec3, x: Vec3) -> Vec3 {
+    let t = phi.length();
+    if t == 0.0 {
+        return Vec3::ZERO;
+    }
+    let k = phi / t;
+    let kx = k.cross(x);
+    let h = (0.5 * t).sin();
+    t.sin() * kx + 2.0 * h * h * k.cross(kx)
+}
