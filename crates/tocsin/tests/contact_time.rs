@@ -488,3 +488,122 @@ fn cache_across_queries_gives_the_same_answers() {
         );
     }
 }
+
+/// An open tube about the z axis: `n_around` x `n_along` quads, split in two.
+fn tube(r: f64, length: f64, n_around: usize, n_along: usize) -> TriMesh {
+    let mut v = Vec::new();
+    for i in 0..=n_along {
+        let h = -length / 2.0 + length * i as f64 / n_along as f64;
+        for j in 0..n_around {
+            let a = std::f64::consts::TAU * j as f64 / n_around as f64;
+            v.push(Vec3::new(r * a.cos(), r * a.sin(), h));
+        }
+    }
+    let mut f = Vec::new();
+    let n = n_around as u32;
+    for i in 0..n_along as u32 {
+        for j in 0..n {
+            let (p, q) = (i * n + j, i * n + (j + 1) % n);
+            f.push([p, q, q + n]);
+            f.push([p, q + n, p + n]);
+        }
+    }
+    TriMesh::new(v, f).unwrap()
+}
+
+fn turn(axis: Vec3, degrees: f64, translation: Vec3) -> Pose {
+    Pose::from_axis_angle(axis, degrees.to_radians(), translation)
+}
+
+#[test]
+fn turning_in_close_fits_against_sampling() {
+    // A body turning about a fixed axis inside a still one: where the rotation certificates
+    // (query/contact_time/shells.rs) decide. Clear fits must report nothing; tight fits, whose
+    // facets cross as they turn, and slides into an end plate must report the first contact.
+    let still = Motion::stationary(Pose::IDENTITY);
+    let ball = mesh::sphere(1.0, 12, 24).unwrap();
+    let mut cases: Vec<(String, TriMesh, Motion, TriMesh)> = Vec::new();
+    for (socket_radius, axis) in [
+        (1.02, Vec3::new(0.3, 0.2, 1.0)),
+        (1.002, Vec3::new(0.3, 0.2, 1.0)),
+        (1.002, Vec3::Z),
+        (1.0005, Vec3::X),
+    ] {
+        let socket = mesh::sphere(socket_radius, 12, 24).unwrap();
+        let mo = Motion::screw(Pose::IDENTITY, turn(axis, 90.0, Vec3::ZERO)).unwrap();
+        cases.push((
+            format!("ball in {socket_radius} socket, axis {axis}"),
+            ball.clone(),
+            mo,
+            socket,
+        ));
+    }
+    let shaft = tube(1.0, 4.0, 16, 4);
+    for bore_radius in [1.1, 1.002] {
+        let bore = tube(bore_radius, 6.0, 16, 4);
+        let mo = Motion::screw(Pose::IDENTITY, turn(Vec3::Z, 180.0, Vec3::ZERO)).unwrap();
+        cases.push((
+            format!("shaft in {bore_radius} bore"),
+            shaft.clone(),
+            mo,
+            bore,
+        ));
+    }
+    // Screwing along the axis into a plate across the bore at z = 3.5.
+    let wide = tube(1.1, 6.0, 16, 4);
+    let plate = mesh::plate(4.0, 4).unwrap();
+    let cap: Vec<Vec3> = plate
+        .vertices()
+        .iter()
+        .map(|&p| p + Vec3::new(0.0, 0.0, 3.5))
+        .collect();
+    let capped = TriMesh::new(
+        [wide.vertices(), &cap].concat(),
+        wide.triangles()
+            .iter()
+            .copied()
+            .chain(
+                plate
+                    .triangles()
+                    .iter()
+                    .map(|t| t.map(|i| i + wide.num_vertices() as u32)),
+            )
+            .collect(),
+    )
+    .unwrap();
+    let screw_in = Motion::screw(
+        Pose::IDENTITY,
+        turn(Vec3::Z, 270.0, Vec3::new(0.0, 0.0, 2.0)),
+    )
+    .unwrap();
+    cases.push((
+        "shaft screwing into a capped bore".into(),
+        shaft.clone(),
+        screw_in,
+        capped,
+    ));
+    let mut contacts = 0;
+    for (label, turning, mo, fixed) in &cases {
+        contacts += check(turning, mo, fixed, &still, None, label) as usize;
+        // The same with the bodies swapped: the still one is mesh 1.
+        contacts += check(
+            fixed,
+            &still,
+            turning,
+            mo,
+            None,
+            &format!("{label}, swapped"),
+        ) as usize;
+    }
+    // The tight fits and the capped bore collide; the clear ones (1.02 socket, 1.1 bore) not.
+    assert!(contacts >= 2 * (cases.len() - 2), "{contacts} contacts");
+    // At the edge of the certificates: tolerances around the clear fits' closest approach.
+    // With the closest at 0.4 of the tolerance a contact must be reported (a certificate
+    // claiming more clearance than there is would miss it); at 0.9, none can be.
+    for (label, turning, mo, fixed) in [&cases[0], &cases[4]] {
+        let closest = oracle(turning, mo, fixed, &still).closest;
+        let must = check(turning, mo, fixed, &still, Some(closest / 0.4), label);
+        assert!(must, "{label}: no contact at tolerance {}", closest / 0.4);
+        check(turning, mo, fixed, &still, Some(closest / 0.9), label);
+    }
+}

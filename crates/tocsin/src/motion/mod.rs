@@ -50,6 +50,22 @@ use crate::error::MotionError;
 use crate::math::{Pose, Vec3};
 pub use rotation::{rotation_exp, rotation_log};
 
+/// A rotation axis fixed in the world ([`Motion::fixed_axis`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FixedAxis {
+    /// A point of the axis, body frame.
+    pub body_point: Vec3,
+    /// Unit direction of the axis, body frame.
+    pub body_dir: Vec3,
+    /// World position of `body_point` at `t = 0`; at time `t` it is
+    /// `world_point + world_dir * along * t`.
+    pub world_point: Vec3,
+    /// Unit direction of the axis, world frame (the sense of the rotation).
+    pub world_dir: Vec3,
+    /// Speed along the axis (model units per unit of `t`, signed along `world_dir`).
+    pub along: f64,
+}
+
 /// Which interpolation a [`Motion`] follows.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[non_exhaustive]
@@ -266,6 +282,35 @@ impl Motion {
                 }
             }
         }
+    }
+
+    /// Whether the body does not move at all.
+    pub fn is_stationary(&self) -> bool {
+        self.linear == Vec3::ZERO && self.angular == Vec3::ZERO
+    }
+
+    /// The rotation axis when it is a line fixed in the world (a screw; an interp whose centre
+    /// moves along the axis or not at all): the body turns about it and slides along it, so
+    /// every body point keeps its distance from the line and its axial coordinate relative to
+    /// the axis point. `None` for translations and for interps whose axis line moves.
+    pub fn fixed_axis(&self) -> Option<FixedAxis> {
+        let theta = self.angular.length();
+        if theta == 0.0 {
+            return None;
+        }
+        let dir = self.angular / theta;
+        let along = self.linear.dot(dir);
+        let across = (self.linear - dir * along).length();
+        if across > 1e-12 * self.linear.length().max(f64::MIN_POSITIVE) && across > 0.0 {
+            return None;
+        }
+        Some(FixedAxis {
+            body_point: self.axis_point,
+            body_dir: self.axis_dir,
+            world_point: self.axis_start,
+            world_dir: dir,
+            along,
+        })
     }
 
     /// Distance of a body-frame point from the rotation axis (0 for a translation).

@@ -1,0 +1,385 @@
+//! Separation certificates that a rotation cannot change: a body turning about an axis fixed in
+//! the world (a screw, or an interp whose centre stays on the axis) past a body that does not
+//! move.
+//!
+//! The directional bound charges a node pair the full tangential speed `|w x n| rho`, so a ball
+//! turning in a socket, or a shaft in a bore, at small clearance took hundreds of iterations
+//! (16 s and 12 s), though no point ever comes closer. But each point of the turning body keeps
+//! its distance `rho` from the axis line, its axial coordinate `z` relative to the axis point,
+//! and its distance from any body point `O` on the axis. For two points `p`, `q` in cylindrical
+//! coordinates, `|p - q|^2 = rho_p^2 + rho_q^2 - 2 rho_p rho_q cos(dphi) + dz^2 >=
+//! (rho_p - rho_q)^2 + dz^2`, and `|p - q| >= | |p - O| - |q - O| |`. So if the turning node's
+//! `rho` and `z` ranges (fixed for all time) and the still node's ranges (at time `t`, widened
+//! by the axial slide over the window) are apart by `g_rho` and `g_z`, or their distances from
+//! `O` by `g_s`, the pair stays at least `max(sqrt(g_rho^2 + g_z^2), g_s)` apart over the whole
+//! window, whatever the angle turned.
+//!
+//! Ranges over an RSS (centre `c`, rectangle axes `e0`, `e1` with half lengths `l0`, `l1`,
+//! radius `r`): a point is `c + d` with `d = a e0 + b e1 + g u`, `|a| <= l0`, `|b| <= l1`,
+//! `|g| <= r`, `u` unit. Along a unit `v`, `|d . v| <= l0 |e0 . v| + l1 |e1 . v| + r`. For the
+//! distance from a line (or a point) with `c` at distance `k` in direction `v`, the distance
+//! of `c + d` is at least `k - ext(v)` and at most `sqrt((k + ext(v))^2 + ext(t)^2)` where
+//! `t` spans the remaining directions (one across the axis for `rho`, bounded by `|d|` for the
+//! distance from `O`). The point `O` is taken where the turning node's normal line passes
+//! closest to the axis: the centre of a spherical patch, the foot of a cylindrical one, so
+//! that curved patches get ranges of second order in their size.
+//!
+//! Triangle pairs get exact ranges where that is cheap: `z` and the largest distance from the
+//! line or from `O` over the three corners (convex functions peak at corners), the smallest
+//! distance from `O` as a point-triangle distance; `O` is taken on the normal line through the
+//! turning triangle's circumcentre, which passes through the centre of any sphere through its
+//! corners (so a ball's triangles are measured from the ball's centre).
+
+use crate::bvh::Rss;
+use crate::math::{Pose, Vec3};
+use crate::motion::{FixedAxis, Motion};
+use crate::query::distance::distance_triangle_triangle;
+
+/// The certificate's data for one query, when one body turns about a fixed axis and the other
+/// is still.
+pub(crate) struct AxisShells {
+    axis: FixedAxis,
+    /// Whether mesh 1 is the turning body (else mesh 2 is).
+    turning_is_1: bool,
+    /// The still body's pose (body to world).
+    still: Pose,
+    /// The query's point `O` on the axis: `body_point + body_dir * lambda`, the foot of the
+    /// turning mesh's root centre (a ball's centre for a ball turning about its centre).
+    lambda: f64,
+    /// Exact ranges over a turning node's triangle corners, computed on first use:
+    /// largest `rho`, smallest and largest `z`, largest distance from `O`.
+    corners: std::cell::RefCell<std::collections::HashMap<u32, [f64; 4]>>,
+}
+
+/// Ranges of a volume's distances from a line and along it, or from a point.
+#[derive(Clone, Copy)]
+struct Range {
+    lo: f64,
+    hi: f64,
+}
+
+impl Range {
+    fn gap(self, other: Range) -> f64 {
+        (other.lo - self.hi).max(self.lo - other.hi).max(0.0)
+    }
+}
+
+/// `|d . v|` over the volume's offsets `d` from its centre.
+#[inline]
+fn extent(e0: Vec3, e1: Vec3, l0: f64, l1: f64, r: f64, v: Vec3) -> f64 {
+    l0 * e0.dot(v).abs() + l1 * e1.dot(v).abs() + r
+}
+
+/// A unit vector orthogonal to the unit `d`.
+fn any_orthogonal(d: Vec3) -> Vec3 {
+    let helper = if d.x.abs() < 0.9 { Vec3::X } else { Vec3::Y };
+    d.cross(helper).normalize()
+}
+
+/// The volume (centre `c`, axes `e0`, `e1`, half lengths, radius; all in one frame) against a
+/// line through `p` with unit direction `d` in that frame: its range of distances from the
+/// line and of axial coordinates `(x - p) . d`.
+fn cylinder(c: Vec3, e0: Vec3, e1: Vec3, l: [f64; 2], r: f64, p: Vec3, d: Vec3) -> (Range, Range) {
+    let rel = c - p;
+    let z = rel.dot(d);
+    let radial = rel - d * z;
+    let k = radial.length();
+    let u = if k > 0.0 {
+        radial / k
+    } else {
+        any_orthogonal(d)
+    };
+    let across = d.cross(u);
+    let (eu, et, ez) = (
+        extent(e0, e1, l[0], l[1], r, u),
+        extent(e0, e1, l[0], l[1], r, across),
+        extent(e0, e1, l[0], l[1], r, d),
+    );
+    (
+        Range {
+            lo: (k - eu).max(0.0),
+            hi: ((k + eu) * (k + eu) + et * et).sqrt(),
+        },
+        Range {
+            lo: z - ez,
+            hi: z + ez,
+        },
+    )
+}
+
+/// The volume's range of distances from the point `o` (all in one frame).
+fn sphere(c: Vec3, e0: Vec3, e1: Vec3, l: [f64; 2], r: f64, o: Vec3) -> Range {
+    let rel = c - o;
+    let k = rel.length();
+    let v = if k > 0.0 { rel / k } else { e0.cross(e1) };
+    let ev = extent(e0, e1, l[0], l[1], r, v);
+    let whole = l[0].hypot(l[1]) + r;
+    Range {
+        lo: (k - ev).max(0.0),
+        hi: ((k + ev) * (k + ev) + whole * whole).sqrt(),
+    }
+}
+
+impl AxisShells {
+    /// The certificate for this pair of motions, when it applies.
+    pub(crate) fn new(
+        motion1: &Motion,
+        motion2: &Motion,
+        root1: &Rss,
+        root2: &Rss,
+    ) -> Option<Self> {
+        let (turning, still, turning_is_1, root) = if motion2.is_stationary() {
+            (motion1, motion2, true, root1)
+        } else if motion1.is_stationary() {
+            (motion2, motion1, false, root2)
+        } else {
+            return None;
+        };
+        let axis = turning.fixed_axis()?;
+        Some(Self {
+            axis,
+            turning_is_1,
+            still: still.start(),
+            lambda: (root.center - axis.body_point).dot(axis.body_dir),
+            corners: Default::default(),
+        })
+    }
+
+    /// Exact corner ranges of the turning mesh's node `index` (see [`Self::corners`]), whose
+    /// triangles are `triangles` (body frame).
+    fn turning_corners(&self, index: u32, triangles: &[[Vec3; 3]]) -> [f64; 4] {
+        if let Some(r) = self.corners.borrow().get(&index) {
+            return *r;
+        }
+        let ax = &self.axis;
+        let o = ax.body_point + ax.body_dir * self.lambda;
+        let mut r = [0.0, f64::INFINITY, f64::NEG_INFINITY, 0.0];
+        for v in triangles.iter().flatten() {
+            let rel = *v - ax.body_point;
+            let z = rel.dot(ax.body_dir);
+            r[0] = r[0].max((rel - ax.body_dir * z).length());
+            r[1] = r[1].min(z);
+            r[2] = r[2].max(z);
+            r[3] = r[3].max((*v - o).length());
+        }
+        self.corners.borrow_mut().insert(index, r);
+        r
+    }
+
+    /// A lower bound on the distance between the turning node `index` (triangles given) and
+    /// the still node `still` (an RSS in its body frame) over `[t, t + h]`, from the turning
+    /// node's exact corner ranges (its largest `rho` and distance from `O`; both `z` ends)
+    /// against the still volume's ranges. It certifies a turning body inside a still one (a
+    /// ball in its socket, a shaft in its bore) high in the trees: only the still side's ranges
+    /// loosen with the size of its volume.
+    pub(crate) fn lower_bound_inner(
+        &self,
+        index: u32,
+        triangles: &[[Vec3; 3]],
+        still: &Rss,
+        t: f64,
+        h: f64,
+    ) -> f64 {
+        let [rho_hi, z_lo, z_hi, s_hi] = self.turning_corners(index, triangles);
+        let ax = &self.axis;
+        let slide = ax.along.abs() * h;
+        let axis_point = ax.world_point + ax.world_dir * (ax.along * t);
+        let c = self.still.transform_point(still.center);
+        let (f0, f1) = (
+            self.still.rotation * still.axes.x_axis,
+            self.still.rotation * still.axes.y_axis,
+        );
+        let (rho_s, z_s) = cylinder(
+            c,
+            f0,
+            f1,
+            still.half_lengths,
+            still.radius,
+            axis_point,
+            ax.world_dir,
+        );
+        let g_rho = (rho_s.lo - rho_hi).max(0.0);
+        let g_z = (z_s.lo - slide - z_hi).max(z_lo - z_s.hi - slide).max(0.0);
+        let o_world = axis_point + ax.world_dir * self.lambda;
+        let s_s = sphere(c, f0, f1, still.half_lengths, still.radius, o_world);
+        let g_s = (s_s.lo - slide - s_hi).max(0.0);
+        (g_rho * g_rho + g_z * g_z).sqrt().max(g_s)
+    }
+
+    /// Whether mesh 1 is the turning body.
+    pub(crate) fn turning_is_1(&self) -> bool {
+        self.turning_is_1
+    }
+
+    /// A lower bound on the distance between node volumes `a` (mesh 1, its body frame) and `b`
+    /// (mesh 2) over the window `[t, t + h]`.
+    pub(crate) fn lower_bound(&self, a: &Rss, b: &Rss, t: f64, h: f64) -> f64 {
+        let (turning, still) = if self.turning_is_1 { (a, b) } else { (b, a) };
+        let ax = &self.axis;
+        // The turning volume, in its body frame, against the body-frame axis.
+        let (e0, e1) = (turning.axes.x_axis, turning.axes.y_axis);
+        let (rho_t, z_t) = cylinder(
+            turning.center,
+            e0,
+            e1,
+            turning.half_lengths,
+            turning.radius,
+            ax.body_point,
+            ax.body_dir,
+        );
+        // The still volume in the world, against the axis where it is at time t; over the
+        // window the axis point slides by |along| h, which widens the axial and spherical
+        // ranges by as much.
+        let slide = ax.along.abs() * h;
+        let axis_point = ax.world_point + ax.world_dir * (ax.along * t);
+        let c = self.still.transform_point(still.center);
+        let (f0, f1) = (
+            self.still.rotation * still.axes.x_axis,
+            self.still.rotation * still.axes.y_axis,
+        );
+        let (rho_s, z_s) = cylinder(
+            c,
+            f0,
+            f1,
+            still.half_lengths,
+            still.radius,
+            axis_point,
+            ax.world_dir,
+        );
+        let z_s = Range {
+            lo: z_s.lo - slide,
+            hi: z_s.hi + slide,
+        };
+        let (g_rho, g_z) = (rho_t.gap(rho_s), z_t.gap(z_s));
+        let cylindrical = (g_rho * g_rho + g_z * g_z).sqrt();
+        // O: where the turning volume's normal line passes closest to the axis.
+        let lambda = closest_on_axis(
+            ax.body_point,
+            ax.body_dir,
+            turning.center,
+            turning.axes.z_axis,
+        );
+        let s_t = sphere(
+            turning.center,
+            e0,
+            e1,
+            turning.half_lengths,
+            turning.radius,
+            ax.body_point + ax.body_dir * lambda,
+        );
+        let o_world = axis_point + ax.world_dir * lambda;
+        let s_s = sphere(c, f0, f1, still.half_lengths, still.radius, o_world);
+        let s_s = Range {
+            lo: (s_s.lo - slide).max(0.0),
+            hi: s_s.hi + slide,
+        };
+        cylindrical.max(s_t.gap(s_s))
+    }
+
+    /// [`Self::lower_bound`] for two triangles (mesh 1's in its body frame, mesh 2's in its).
+    pub(crate) fn lower_bound_triangles(
+        &self,
+        t1: &[Vec3; 3],
+        t2: &[Vec3; 3],
+        t: f64,
+        h: f64,
+    ) -> f64 {
+        let (turning, still) = if self.turning_is_1 {
+            (t1, t2)
+        } else {
+            (t2, t1)
+        };
+        let ax = &self.axis;
+        let still = still.map(|p| self.still.transform_point(p));
+        let slide = ax.along.abs() * h;
+        let axis_point = ax.world_point + ax.world_dir * (ax.along * t);
+        // Axial coordinates and distances from the line, over the corners.
+        let corners = |tri: &[Vec3; 3], p: Vec3, d: Vec3| {
+            let mut z = Range {
+                lo: f64::INFINITY,
+                hi: f64::NEG_INFINITY,
+            };
+            let mut rho_hi: f64 = 0.0;
+            for &v in tri {
+                let rel = v - p;
+                let zz = rel.dot(d);
+                z.lo = z.lo.min(zz);
+                z.hi = z.hi.max(zz);
+                rho_hi = rho_hi.max((rel - d * zz).length());
+            }
+            (z, rho_hi)
+        };
+        let (z_t, rho_t_hi) = corners(turning, ax.body_point, ax.body_dir);
+        let (z_s, rho_s_hi) = corners(&still, axis_point, ax.world_dir);
+        let z_s = Range {
+            lo: z_s.lo - slide,
+            hi: z_s.hi + slide,
+        };
+        // Smallest distances from the line: from each triangle's own volume bound would need
+        // the volume; a line-triangle distance is bounded below by the point-free form
+        // `rho(centroid) - max |corner - centroid|`, enough where the triangles face the axis.
+        let rho_lo = |tri: &[Vec3; 3], p: Vec3, d: Vec3| {
+            let c = (tri[0] + tri[1] + tri[2]) / 3.0;
+            let rel = c - p;
+            let rho_c = (rel - d * rel.dot(d)).length();
+            let spread = tri.iter().fold(0.0_f64, |m, &v| m.max((v - c).length()));
+            (rho_c - spread).max(0.0)
+        };
+        let rho_t = Range {
+            lo: rho_lo(turning, ax.body_point, ax.body_dir),
+            hi: rho_t_hi,
+        };
+        let rho_s = Range {
+            lo: rho_lo(&still, axis_point, ax.world_dir),
+            hi: rho_s_hi,
+        };
+        let (g_rho, g_z) = (rho_t.gap(rho_s), z_t.gap(z_s));
+        let cylindrical = (g_rho * g_rho + g_z * g_z).sqrt();
+        // O on the axis, nearest the normal line through the turning triangle's circumcentre.
+        let Some(centre) = circumcentre(turning) else {
+            return cylindrical;
+        };
+        let n = (turning[1] - turning[0])
+            .cross(turning[2] - turning[0])
+            .normalize();
+        let lambda = closest_on_axis(ax.body_point, ax.body_dir, centre, n);
+        let o_body = ax.body_point + ax.body_dir * lambda;
+        let o_world = axis_point + ax.world_dir * lambda;
+        let from = |tri: &[Vec3; 3], o: Vec3| Range {
+            lo: distance_triangle_triangle(tri, &[o, o, o]).distance,
+            hi: tri.iter().fold(0.0_f64, |m, &v| m.max((v - o).length())),
+        };
+        let s_t = from(turning, o_body);
+        let s_s = from(&still, o_world);
+        let s_s = Range {
+            lo: (s_s.lo - slide).max(0.0),
+            hi: s_s.hi + slide,
+        };
+        cylindrical.max(s_t.gap(s_s))
+    }
+}
+
+/// The parameter `lambda` of the point `p + lambda d` of the axis (unit `d`) nearest the line
+/// through `c` with unit direction `n`; the foot of `c` when the two are parallel.
+fn closest_on_axis(p: Vec3, d: Vec3, c: Vec3, n: Vec3) -> f64 {
+    let rel = c - p;
+    let (dn, dd) = (d.dot(n), d.dot(rel));
+    let denom = 1.0 - dn * dn;
+    if denom > 1e-9 {
+        (dd - dn * n.dot(rel)) / denom
+    } else {
+        dd
+    }
+}
+
+/// The centre of the circle through a triangle's corners; `None` when it is degenerate.
+fn circumcentre(t: &[Vec3; 3]) -> Option<Vec3> {
+    let (a, b) = (t[1] - t[0], t[2] - t[0]);
+    let n = a.cross(b);
+    let nn = n.length_squared();
+    let degenerate = nn.is_nan() || nn <= 1e-30 * a.length_squared() * b.length_squared();
+    if degenerate {
+        return None;
+    }
+    Some(t[0] + (b.length_squared() * n.cross(a) + a.length_squared() * b.cross(n)) / (2.0 * nn))
+}
