@@ -284,6 +284,11 @@ impl Motion {
         }
     }
 
+    /// A point of the rotation axis, body frame (any point when the motion does not turn).
+    pub fn axis_point(&self) -> Vec3 {
+        self.axis_point
+    }
+
     /// Whether the body does not move at all.
     pub fn is_stationary(&self) -> bool {
         self.linear == Vec3::ZERO && self.angular == Vec3::ZERO

@@ -37,6 +37,9 @@ pub(crate) struct StepSearch<'a> {
     rot1: Mat3,
     /// Mesh 2's world rotation at the current time.
     rot2: Mat3,
+    /// The two motions seen from mesh 1's frame at the current time.
+    kin1: Kinematics,
+    kin2: Kinematics,
     /// Length of the time window the bounds are valid for (steps never exceed it).
     window: f64,
     best: f64,
@@ -52,6 +55,57 @@ pub(crate) struct StepSearch<'a> {
     shells_on: bool,
     /// The current time.
     t: f64,
+}
+
+/// One body's motion at the current time, seen from mesh 1's frame: the motion bounds are
+/// dot products and lengths, the same in every frame, so each pair's direction `n` (which the
+/// separating-axis test gives in mesh 1's frame) is used as it is, without turning it into the
+/// world frame and turning each node's lever with the body's rotation.
+#[derive(Clone, Copy)]
+struct Kinematics {
+    /// Linear velocity of the axis point.
+    v: Vec3,
+    /// Angular velocity.
+    w: Vec3,
+    /// `|w|`.
+    w_len: f64,
+    /// `|v|`.
+    v_len: f64,
+    /// A point of the rotation axis, in the body's own frame.
+    axis_point: Vec3,
+}
+
+impl Kinematics {
+    fn new(motion: &Motion, to_mesh1: &Mat3) -> Self {
+        let (v, w) = (
+            *to_mesh1 * motion.linear_velocity(),
+            *to_mesh1 * motion.angular_velocity(),
+        );
+        Self {
+            v,
+            w,
+            w_len: w.length(),
+            v_len: v.length(),
+            axis_point: motion.axis_point(),
+        }
+    }
+
+    /// The bound of [`Motion::directional_bound`] and [`Motion::directional_bound_window`],
+    /// the smaller of the two, along the unit `m` (mesh 1's frame) for points within `radius`
+    /// of a centre whose lever from the axis is `lever` (mesh 1's frame) and within `rho` of
+    /// the axis, over a window `h`.
+    #[inline]
+    fn bound(&self, m: Vec3, lever: Vec3, radius: f64, rho: f64, h: f64) -> f64 {
+        let mxw = m.cross(self.w);
+        let k = mxw.length();
+        m.dot(self.v) + (k * rho).min(lever.dot(mxw) + k * (radius + self.w_len * h * rho))
+    }
+
+    /// Speed bound of points within `rho` of the axis, in any direction.
+    #[inline]
+    fn speed(&self, rho: f64) -> f64 {
+        self.v_len + self.w_len * rho
+    }
 }
 
 /// A set of body points for the motion bounds: a ball (body frame) and a bound `rho` on the
@@ -108,6 +162,8 @@ impl<'a> StepSearch<'a> {
             trans12: Vec3::ZERO,
             rot1: Mat3::IDENTITY,
             rot2: Mat3::IDENTITY,
+            kin1: Kinematics::new(motion1, &Mat3::IDENTITY),
+            kin2: Kinematics::new(motion2, &Mat3::IDENTITY),
             window: 1.0,
             best: 0.0,
             best_pair: None,
@@ -129,26 +185,12 @@ impl<'a> StepSearch<'a> {
         if margin <= 0.0 {
             return 0.0;
         }
-        let n_world = self.rot1 * n;
-        let (m1, m2) = (self.motion1, self.motion2);
-        let mu1 = m1
-            .directional_bound(n_world, s1.rho)
-            .min(m1.directional_bound_window(
-                n_world,
-                &self.rot1,
-                s1.center,
-                s1.radius,
-                self.window,
-            ));
-        let mu2 = m2
-            .directional_bound(-n_world, s2.rho)
-            .min(m2.directional_bound_window(
-                -n_world,
-                &self.rot2,
-                s2.center,
-                s2.radius,
-                self.window,
-            ));
+        let h = self.window;
+        let mu1 = self
+            .kin1
+            .bound(n, s1.center - self.kin1.axis_point, s1.radius, s1.rho, h);
+        let lever2 = self.rot12 * (s2.center - self.kin2.axis_point);
+        let mu2 = self.kin2.bound(-n, lever2, s2.radius, s2.rho, h);
         let mu = mu1 + mu2;
         if mu <= 0.0 {
             f64::INFINITY
@@ -170,7 +212,7 @@ impl<'a> StepSearch<'a> {
             PointSet::node(a, self.motion1),
             PointSet::node(b, self.motion2),
         );
-        let mu_max = self.motion1.speed_bound(s1.rho) + self.motion2.speed_bound(s2.rho);
+        let mu_max = self.kin1.speed(s1.rho) + self.kin2.speed(s2.rho);
         let cutoff = 0.5 * self.delta + mu_max * self.best / (1.0 + self.slack);
         let (gap, axis) = rss_separation(&a.rss, &b.rss, rel, cutoff);
         let step = self.step(gap, a.rss.axes * axis, &s1, &s2);
@@ -239,6 +281,9 @@ impl<'a> StepSearch<'a> {
         let pos12 = pose1.inv_mul(&pose2);
         (self.rot12, self.trans12) = (pos12.rotation, pos12.translation);
         (self.rot1, self.rot2, self.window) = (pose1.rotation, pose2.rotation, window);
+        let to_mesh1 = pose1.rotation.transpose();
+        self.kin1 = Kinematics::new(self.motion1, &to_mesh1);
+        self.kin2 = Kinematics::new(self.motion2, &to_mesh1);
         self.t = t;
         self.slack = slack;
         self.best = window * (1.0 + slack);
