@@ -7,6 +7,7 @@
 
 mod build;
 mod eigen;
+mod projection;
 mod rss;
 mod rss4;
 #[cfg(target_arch = "x86_64")]
@@ -27,6 +28,7 @@ impl TestRng {
     }
 }
 
+pub(crate) use projection::ColumnPair;
 pub use rss::Rss;
 pub(crate) use rss::{rss_separation, ASide, BSide, RelativeRss};
 pub(crate) use rss4::{LaneBounds, Lanes4};

@@ -5,7 +5,9 @@
 //! every triangle pair. A triangle pair within `delta` ends the search.
 
 use super::shells::AxisShells;
-use crate::bvh::{rss_separation, ASide, BSide, Bvh, Node, RelativeRss};
+use crate::bvh::{
+    rss_separation, ASide, BSide, Bvh, ColumnPair, Lanes4, Node, RelativeRss, PROJECT_MAX,
+};
 use crate::math::{Mat3, Pose, Vec3};
 use crate::motion::Motion;
 use crate::query::distance::distance_triangle_triangle;
@@ -40,6 +42,10 @@ pub(crate) struct StepSearch<'a> {
     /// The two motions seen from mesh 1's frame at the current time.
     kin1: Kinematics,
     kin2: Kinematics,
+    /// Both meshes' corner columns at the current relative pose (small subtree pairs are also
+    /// bounded by projecting their points on the pair's axis, as in the distance search).
+    columns: Option<ColumnPair<'a>>,
+    lanes: Lanes4,
     /// Length of the time window the bounds are valid for (steps never exceed it).
     window: f64,
     best: f64,
@@ -164,6 +170,8 @@ impl<'a> StepSearch<'a> {
             rot2: Mat3::IDENTITY,
             kin1: Kinematics::new(motion1, &Mat3::IDENTITY),
             kin2: Kinematics::new(motion2, &Mat3::IDENTITY),
+            columns: None,
+            lanes: Lanes4::detect(),
             window: 1.0,
             best: 0.0,
             best_pair: None,
@@ -215,7 +223,23 @@ impl<'a> StepSearch<'a> {
         let mu_max = self.kin1.speed(s1.rho) + self.kin2.speed(s2.rho);
         let cutoff = 0.5 * self.delta + mu_max * self.best / (1.0 + self.slack);
         let (gap, axis) = rss_separation(&a.rss, &b.rss, rel, cutoff);
-        let step = self.step(gap, a.rss.axes * axis, &s1, &s2);
+        let n = a.rss.axes * axis;
+        let mut step = self.step(gap, n, &s1, &s2);
+        // Near the leaves the volumes overhang their triangles: the subtrees' points projected
+        // on the same axis (from a towards b) are often farther apart, and the same motion
+        // bound then certifies a longer step.
+        if let Some(c) = &self.columns {
+            if gap > 0.0
+                && step * (1.0 + self.slack) < self.best
+                && a.leaf_range().len() <= PROJECT_MAX
+                && b.leaf_range().len() <= PROJECT_MAX
+            {
+                let projected = c.gap(self.lanes, (n1, a), (n2, b), n);
+                if projected > gap {
+                    step = self.step(projected, n, &s1, &s2);
+                }
+            }
+        }
         match &self.shells {
             // Only where the pair would be visited: the certificate is then worth its cost.
             Some(shells) if self.shells_on && step * (1.0 + self.slack) < self.best => {
@@ -282,6 +306,7 @@ impl<'a> StepSearch<'a> {
         (self.rot12, self.trans12) = (pos12.rotation, pos12.translation);
         (self.rot1, self.rot2, self.window) = (pose1.rotation, pose2.rotation, window);
         let to_mesh1 = pose1.rotation.transpose();
+        self.columns = ColumnPair::new(self.bvh1, self.bvh2, &pos12);
         self.kin1 = Kinematics::new(self.motion1, &to_mesh1);
         self.kin2 = Kinematics::new(self.motion2, &to_mesh1);
         self.t = t;

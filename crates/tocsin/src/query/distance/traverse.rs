@@ -35,7 +35,7 @@
 use super::distance_triangle_triangle::distance_triangle_triangle;
 use super::{DistanceOptions, DistanceResult};
 use crate::bvh::{
-    rss_separation, Bvh, CornerColumns, Expansion, Lanes4, Node, RelativeRss, PROJECT_MAX,
+    rss_separation, Bvh, ColumnPair, Expansion, Lanes4, Node, RelativeRss, PROJECT_MAX,
 };
 use crate::math::{Mat3, Pose, Vec3};
 use crate::mesh::TriMesh;
@@ -76,8 +76,6 @@ pub(crate) struct DistanceSearch<'a> {
     bvh1: &'a Bvh,
     bvh2: &'a Bvh,
     rot12: Mat3,
-    /// `rot12` transposed (mesh 1's frame into mesh 2's).
-    rot21: Mat3,
     trans12: Vec3,
     rel: f64,
     abs: f64,
@@ -85,7 +83,7 @@ pub(crate) struct DistanceSearch<'a> {
     /// Absolute slack subtracted from every bound, covering rounding in the relative transform.
     slack: f64,
     /// Both meshes' corner columns, for [`Self::projected_gap`] (`None` when either has none).
-    columns: Option<Columns<'a>>,
+    columns: Option<ColumnPair<'a>>,
     best: Best,
     /// [`Self::compute_cutoff`] for the current best.
     cut: f64,
@@ -95,16 +93,6 @@ pub(crate) struct DistanceSearch<'a> {
     /// values in tests.
     heap_cap: usize,
     lanes: Lanes4,
-}
-
-/// The two meshes' corner columns for one query.
-struct Columns<'a> {
-    c1: &'a CornerColumns,
-    c2: &'a CornerColumns,
-    /// Origin of `c2`'s coordinates less `c1`'s, in mesh 1's frame.
-    origins: Vec3,
-    /// The two columns' rounding bounds, summed.
-    error: f64,
 }
 
 /// A node pair waiting in the best-first queue, ordered by its bound (the smallest is the
@@ -155,21 +143,12 @@ impl<'a> DistanceSearch<'a> {
             bvh1: mesh1.bvh(),
             bvh2: mesh2.bvh(),
             rot12: pos12.rotation,
-            rot21: pos12.rotation.transpose(),
             trans12: pos12.translation,
             rel: options.relative_error,
             abs: options.absolute_error,
             stop,
             slack: 1e-13 * scale,
-            columns: match (mesh1.bvh().corner_columns(), mesh2.bvh().corner_columns()) {
-                (Some(c1), Some(c2)) => Some(Columns {
-                    c1,
-                    c2,
-                    origins: pos12.transform_point(c2.origin) - c1.origin,
-                    error: c1.error + c2.error,
-                }),
-                _ => None,
-            },
+            columns: ColumnPair::new(mesh1.bvh(), mesh2.bvh(), pos12),
             best: Best {
                 distance: f64::INFINITY,
                 point1: Vec3::ZERO,
@@ -246,14 +225,10 @@ impl<'a> DistanceSearch<'a> {
     /// instructions). Computed from the `f32` corner columns, less their rounding bound;
     /// `NEG_INFINITY` for meshes without columns.
     fn projected_gap(&self, (i, a): (u32, &Node), (j, b): (u32, &Node), axis: Vec3) -> f64 {
-        let Some(c) = &self.columns else {
-            return f64::NEG_INFINITY;
-        };
-        let hi1 = self.lanes.max_along(c.c1.points(i, a), axis);
-        let lo2 = -self
-            .lanes
-            .max_along(c.c2.points(j, b), -(self.rot21 * axis));
-        lo2 - hi1 + axis.dot(c.origins) - c.error
+        match &self.columns {
+            Some(c) => c.gap(self.lanes, (i, a), (j, b), axis),
+            None => f64::NEG_INFINITY,
+        }
     }
 
     /// [`Self::leaf_pair`] of the triangles of two leaf nodes.
