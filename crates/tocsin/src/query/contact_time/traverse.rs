@@ -79,6 +79,8 @@ struct Kinematics {
     v_len: f64,
     /// A point of the rotation axis, in the body's own frame.
     axis_point: Vec3,
+    /// Whether the body does not move (its bound is 0: nothing to compute).
+    still: bool,
 }
 
 impl Kinematics {
@@ -93,6 +95,7 @@ impl Kinematics {
             w_len: w.length(),
             v_len: v.length(),
             axis_point: motion.axis_point(),
+            still: motion.is_stationary(),
         }
     }
 
@@ -194,11 +197,18 @@ impl<'a> StepSearch<'a> {
             return 0.0;
         }
         let h = self.window;
-        let mu1 = self
-            .kin1
-            .bound(n, s1.center - self.kin1.axis_point, s1.radius, s1.rho, h);
-        let lever2 = self.rot12 * (s2.center - self.kin2.axis_point);
-        let mu2 = self.kin2.bound(-n, lever2, s2.radius, s2.rho, h);
+        let mu1 = if self.kin1.still {
+            0.0
+        } else {
+            let lever1 = s1.center - self.kin1.axis_point;
+            self.kin1.bound(n, lever1, s1.radius, s1.rho, h)
+        };
+        let mu2 = if self.kin2.still {
+            0.0
+        } else {
+            let lever2 = self.rot12 * (s2.center - self.kin2.axis_point);
+            self.kin2.bound(-n, lever2, s2.radius, s2.rho, h)
+        };
         let mu = mu1 + mu2;
         if mu <= 0.0 {
             f64::INFINITY
