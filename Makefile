@@ -59,12 +59,15 @@ bench: bench-python
 	$(CARGO) bench -p tocsin
 	$(MAKE) bench-parry
 
-# Side-by-side with python-fcl (distance, collide, continuous collision); installs python-fcl
-# and pybullet (for its meshes) in the venv.
+# Side-by-side with python-fcl (distance, collide, continuous collision, tied geometry, the
+# pathological continuous-collision cases); installs python-fcl and pybullet (for its meshes)
+# in the venv.
 bench-python: develop
 	$(VPY) -m pip install -q python-fcl pybullet
 	$(VPY) bench/compare_fcl.py
 	$(VPY) bench/compare_fcl_ccd.py
+	$(VPY) bench/compare_fcl_ties.py
+	$(VPY) bench/compare_fcl_pathological.py
 
 # parry3d-f64's shape casts next to tocsin (its own cargo workspace, not built by `make test`).
 bench-parry:
