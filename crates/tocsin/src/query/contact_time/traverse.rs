@@ -6,7 +6,8 @@
 
 use super::shells::AxisShells;
 use crate::bvh::{
-    rss_separation, ASide, BSide, Bvh, ColumnPair, Lanes4, Node, RelativeRss, PROJECT_MAX,
+    rss_separation, ASide, BSide, Bvh, ColumnPair, Expansion, Lanes4, Node, RelativeRss,
+    PROJECT_MAX,
 };
 use crate::math::{Mat3, Pose, Vec3};
 use crate::motion::Motion;
@@ -34,6 +35,8 @@ pub(crate) struct StepSearch<'a> {
     delta: f64,
     // Per-iteration state.
     rot12: Mat3,
+    /// `rot12` transposed: mesh 1's frame into mesh 2's.
+    rot21: Mat3,
     trans12: Vec3,
     /// Mesh 1's rotation at the current time: mesh-1 frame to world.
     rot1: Mat3,
@@ -168,6 +171,7 @@ impl<'a> StepSearch<'a> {
             motion2,
             delta,
             rot12: Mat3::IDENTITY,
+            rot21: Mat3::IDENTITY,
             trans12: Vec3::ZERO,
             rot1: Mat3::IDENTITY,
             rot2: Mat3::IDENTITY,
@@ -314,6 +318,7 @@ impl<'a> StepSearch<'a> {
         let (pose1, pose2): (Pose, Pose) = (self.motion1.pose_at(t), self.motion2.pose_at(t));
         let pos12 = pose1.inv_mul(&pose2);
         (self.rot12, self.trans12) = (pos12.rotation, pos12.translation);
+        self.rot21 = pos12.rotation.transpose();
         (self.rot1, self.rot2, self.window) = (pose1.rotation, pose2.rotation, window);
         let to_mesh1 = pose1.rotation.transpose();
         self.columns = ColumnPair::new(self.bvh1, self.bvh2, &pos12);
@@ -353,6 +358,10 @@ impl<'a> StepSearch<'a> {
                         pair: (a.leaf_position(), b.leaf_position()),
                     };
                 }
+                continue;
+            }
+            if !self.shells_on {
+                self.expand_lanes(n1, n2);
                 continue;
             }
             // With the rotation certificates, the still side is split first: the turning
@@ -401,6 +410,82 @@ impl<'a> StepSearch<'a> {
             pair: self.best_pair,
             distance: self.closest,
         }
+    }
+
+    /// Expands the pair `(n1, n2)` (not two leaves): both nodes split when both are internal,
+    /// the child pairs bounded four at a time in lanes (as in the distance search), then each
+    /// lane's step: the undirected step `(g - delta/2) / (speed1 + speed2)` from the lanes' gap
+    /// `g` prunes most pairs cheaply; the survivors get the directional step along the lane's
+    /// near-points axis, with the gap along that axis (the volumes' supports, or their
+    /// corners' projection for small subtrees). Both steps are certified; the larger is kept.
+    fn expand_lanes(&mut self, n1: u32, n2: u32) {
+        let (nodes1, nodes2) = (self.bvh1.nodes(), self.bvh2.nodes());
+        let Some(e) = Expansion::of(nodes1, n1, nodes2, n2) else {
+            return;
+        };
+        let bounds = self
+            .lanes
+            .expansion_bounds(&e, nodes1, nodes2, &self.rot12, self.trans12);
+        let keep = self.best / (1.0 + self.slack);
+        let mut children = [(0u32, 0u32, 0.0f64); 4];
+        let mut m = 0;
+        for &k in e.lanes {
+            let (c1, c2) = e.pair(k);
+            let (a, b) = (&nodes1[c1 as usize], &nodes2[c2 as usize]);
+            let (s1, s2) = (
+                PointSet::node(a, self.motion1),
+                PointSet::node(b, self.motion2),
+            );
+            let speed = self.kin1.speed(s1.rho) + self.kin2.speed(s2.rho);
+            let margin = bounds.gap[k] - 0.5 * self.delta;
+            let mut step = if margin <= 0.0 {
+                0.0
+            } else if speed <= 0.0 {
+                f64::INFINITY
+            } else {
+                margin / speed
+            };
+            if step >= keep {
+                continue;
+            }
+            let u = Vec3::new(bounds.axis[0][k], bounds.axis[1][k], bounds.axis[2][k]);
+            if u != Vec3::ZERO {
+                let mut gap = self.gap_along(&a.rss, &b.rss, u);
+                if let Some(c) = &self.columns {
+                    if a.leaf_range().len() <= PROJECT_MAX && b.leaf_range().len() <= PROJECT_MAX {
+                        gap = gap.max(c.gap(self.lanes, (c1, a), (c2, b), u));
+                    }
+                }
+                step = step.max(self.step(gap, u, &s1, &s2));
+            }
+            if step < keep {
+                children[m] = (c1, c2, step);
+                m += 1;
+            }
+        }
+        let children = &mut children[..m];
+        // Largest step first, so that the smallest is on top (insertion sort of at most four).
+        for i in 1..children.len() {
+            let mut j = i;
+            while j > 0 && children[j - 1].2 < children[j].2 {
+                children.swap(j - 1, j);
+                j -= 1;
+            }
+        }
+        self.stack.extend_from_slice(children);
+    }
+
+    /// The gap between volumes `a` (mesh 1) and `b` (mesh 2) along the unit `u` (mesh 1's
+    /// frame): `u . (centre_b - centre_a)` less both volumes' supports along `u`.
+    #[inline]
+    fn gap_along(&self, a: &crate::bvh::Rss, b: &crate::bvh::Rss, u: Vec3) -> f64 {
+        let support = |r: &crate::bvh::Rss, v: Vec3| {
+            r.half_lengths[0] * r.axes.x_axis.dot(v).abs()
+                + r.half_lengths[1] * r.axes.y_axis.dot(v).abs()
+                + r.radius
+        };
+        let cb = self.rot12 * b.center + self.trans12;
+        u.dot(cb - a.center) - support(a, u) - support(b, self.rot21 * u)
     }
 
     /// A nearby triangle pair (leaf positions) at the current time: from the roots, always into
