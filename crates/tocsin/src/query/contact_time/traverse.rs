@@ -450,13 +450,17 @@ impl<'a> StepSearch<'a> {
             }
             let u = Vec3::new(bounds.axis[0][k], bounds.axis[1][k], bounds.axis[2][k]);
             if u != Vec3::ZERO {
-                let mut gap = self.gap_along(&a.rss, &b.rss, u);
-                if let Some(c) = &self.columns {
+                let gap = self.gap_along(&a.rss, &b.rss, u);
+                step = step.max(self.step(gap, u, &s1, &s2));
+                // The corners' projection, only where the volumes did not prune.
+                if let (Some(c), true) = (&self.columns, step < keep) {
                     if a.leaf_range().len() <= PROJECT_MAX && b.leaf_range().len() <= PROJECT_MAX {
-                        gap = gap.max(c.gap(self.lanes, (c1, a), (c2, b), u));
+                        let projected = c.gap(self.lanes, (c1, a), (c2, b), u);
+                        if projected > gap {
+                            step = step.max(self.step(projected, u, &s1, &s2));
+                        }
                     }
                 }
-                step = step.max(self.step(gap, u, &s1, &s2));
             }
             if step < keep {
                 children[m] = (c1, c2, step);
