@@ -31,7 +31,11 @@
 //! bounding radius) the slack is [`FAR_SLACK`]; near contact [`NEAR_SLACK`]. Deviation: C2A is
 //! exact near contact, but measured on knot34k (60 + 40 queries per motion kind) an exact
 //! search there was 15 to 25% slower at the median and up to 2x at the 90th percentile: the
-//! last iterations visit the most pairs, and a 20% shorter step costs less than the visits.
+//! last iterations visit the most pairs, and a shorter step costs less than the visits. The
+//! values were 0.5 and 0.2 until the step search bounded pairs in lanes, which made each visit
+//! cheaper; re-measured then (oracle bench, knot2.8k and knot34k, seven pairs of values from
+//! (0.1, 0.05) to (0.5, 0.2)), 0.25 and 0.1 were the fastest: 6 iterations instead of 7 or 8,
+//! knot34k medians 251-353 -> 257-285 us in one run and 274-305 in another.
 
 mod shells;
 mod traverse;
@@ -49,9 +53,9 @@ use traverse::{StepOutcome, StepSearch};
 pub const NORMAL_RESOLUTION: f64 = 1e-10;
 
 /// Relative step slack far from contact (see the module docs).
-pub const FAR_SLACK: f64 = 0.5;
+pub const FAR_SLACK: f64 = 0.25;
 /// Relative step slack near contact (see the module docs).
-pub const NEAR_SLACK: f64 = 0.2;
+pub const NEAR_SLACK: f64 = 0.1;
 
 /// Options of [`time_of_contact`].
 #[derive(Clone, Copy, Debug, PartialEq)]
