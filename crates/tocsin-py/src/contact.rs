@@ -131,3 +131,27 @@ pub(crate) fn time_of_contact(
         .map_err(|e| contact_error(py, e))?;
     Ok(r.as_ref().map(ContactResult::from_core))
 }
+
+/// Whether mesh1 moving by motion1 and mesh2 moving by motion2 stay free of contact over t in
+/// [0, 1]: True when they stay farther apart than the tolerance, False whenever they come
+/// within tolerance / 2 (always when they collide), either in between; the same answer as
+/// `time_of_contact(...) is None`, but it stops at the first step within the tolerance and
+/// computes no witnesses (the question a path planner asks). Raises IterationLimitError when
+/// max_iterations runs out first. The GIL is released.
+#[pyfunction]
+#[pyo3(signature = (mesh1, motion1, mesh2, motion2, tolerance=None, max_iterations=None))]
+pub(crate) fn motion_is_free(
+    py: Python<'_>,
+    mesh1: &Mesh,
+    motion1: &Motion,
+    mesh2: &Mesh,
+    motion2: &Motion,
+    tolerance: Option<f64>,
+    max_iterations: Option<&Bound<'_, PyAny>>,
+) -> PyResult<bool> {
+    let opts = contact_options(py, tolerance, max_iterations)?;
+    let (m1, m2) = (mesh1.inner.clone(), mesh2.inner.clone());
+    let (mo1, mo2) = (motion1.inner, motion2.inner);
+    py.detach(|| tocsin::motion_is_free(&m1, &mo1, &m2, &mo2, &opts))
+        .map_err(|e| contact_error(py, e))
+}

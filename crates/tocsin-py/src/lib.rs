@@ -29,6 +29,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(motion::orthonormalize, m)?)?;
     m.add_class::<contact::ContactResult>()?;
     m.add_function(wrap_pyfunction!(contact::time_of_contact, m)?)?;
+    m.add_function(wrap_pyfunction!(contact::motion_is_free, m)?)?;
     m.add_function(wrap_pyfunction!(batch::_distance_batch, m)?)?;
     m.add_function(wrap_pyfunction!(batch::_collide_batch, m)?)?;
     m.add_function(wrap_pyfunction!(batch::_time_of_contact_batch, m)?)?;

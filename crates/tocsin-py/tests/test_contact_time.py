@@ -71,3 +71,23 @@ def test_motion_and_option_errors():
     with pytest.raises(tocsin.OptionsError):
         tocsin.time_of_contact(box, still, box, still, max_iterations=0)
     assert issubclass(tocsin.MotionError, ValueError)
+
+
+def test_motion_is_free_agrees_with_time_of_contact():
+    knot = tocsin.Mesh.torus_knot(60, 6)
+    still = tocsin.Motion.stationary(np.eye(4))
+    rng = np.random.default_rng(11)
+    answers = set()
+    for _ in range(20):
+        start, end = np.eye(4), np.eye(4)
+        start[:3, 3] = [-12.0, *rng.uniform(-4, 4, 2)]
+        end[:3, 3] = [12.0, *rng.uniform(-4, 4, 2)]
+        fly = tocsin.Motion.translation(start, end)
+        free = tocsin.motion_is_free(knot, fly, knot, still)
+        assert free == (tocsin.time_of_contact(knot, fly, knot, still) is None)
+        answers.add(free)
+    assert answers == {True, False}
+    with pytest.raises(tocsin.IterationLimitError):
+        start, end = np.eye(4), np.eye(4)
+        start[0, 3], end[0, 3] = -12.0, 12.0
+        tocsin.motion_is_free(knot, tocsin.Motion.translation(start, end), knot, still, max_iterations=1)

@@ -83,6 +83,9 @@ fn check(
     };
     let delta = tocsin::query::contact_time::effective_tolerance(m1, mo1, m2, mo2, &opts);
     let r = time_of_contact(m1, mo1, m2, mo2, &opts).unwrap();
+    // The planner's question gives the same answer, so the oracle checks below hold for it too.
+    let free = tocsin::motion_is_free(m1, mo1, m2, mo2, &opts).unwrap();
+    assert_eq!(free, r.is_none(), "{label}: motion_is_free disagrees");
     let o = oracle(m1, mo1, m2, mo2);
     match (&r, o.first_collision) {
         (None, Some((_, hi))) => panic!("{label}: missed a collision at t = {hi}"),

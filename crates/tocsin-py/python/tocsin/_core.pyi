@@ -21,6 +21,7 @@ __all__ = [
     "collide",
     "collide_pairs",
     "distance",
+    "motion_is_free",
     "orthonormalize",
     "time_of_contact",
     "within_distance",
@@ -204,6 +205,21 @@ def time_of_contact(
     for degenerate meshes). Raises IterationLimitError when max_iterations (default 1000) runs
     out first: that is no contact, and the motion is only known free up to its time_reached.
     The GIL is released."""
+
+def motion_is_free(
+    mesh1: Mesh,
+    motion1: Motion,
+    mesh2: Mesh,
+    motion2: Motion,
+    tolerance: Optional[float] = None,
+    max_iterations: Optional[int] = None,
+) -> bool:
+    """Whether mesh1 moving by motion1 and mesh2 moving by motion2 stay free of contact over t
+    in [0, 1]: True when they stay farther apart than the tolerance, False whenever they come
+    within tolerance / 2 (always when they collide), either in between; the same answer as
+    `time_of_contact(...) is None`, but it stops at the first step within the tolerance and
+    computes no witnesses (the question a path planner asks). Raises IterationLimitError when
+    max_iterations runs out first. The GIL is released."""
 
 def orthonormalize(pose: ArrayLike, max_error: float = 1e-3) -> npt.NDArray[np.float64]:
     """A copy of the 4x4 pose with its rotation block replaced by the nearest rotation, for

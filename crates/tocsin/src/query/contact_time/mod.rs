@@ -184,18 +184,51 @@ pub fn time_of_contact_with_cache(
     options: &ContactOptions,
     cache: &mut ContactCache,
 ) -> Result<Option<ContactTime>, ContactError> {
+    Ok(advance(mesh1, motion1, mesh2, motion2, options, cache)?
+        .map(|ends| finish(mesh1, motion1, mesh2, motion2, ends, cache)))
+}
+
+/// Whether the motions are free of contact: `true` when the meshes stay farther apart than
+/// the tolerance over all of `[0, 1]`, `false` whenever they come closer than half of it (in
+/// particular whenever they collide), either in between; exactly `time_of_contact(..).is_none()`.
+/// The question a path planner asks: it stops at the first iteration within the tolerance and
+/// computes no witnesses, which saves the final exact distance (about 40% of a knot34k time of
+/// contact).
+///
+/// # Errors
+/// As [`time_of_contact`]: bad options, or the iteration cap reached before the answer is known.
+pub fn motion_is_free(
+    mesh1: &TriMesh,
+    motion1: &Motion,
+    mesh2: &TriMesh,
+    motion2: &Motion,
+    options: &ContactOptions,
+) -> Result<bool, ContactError> {
+    let mut cache = ContactCache::default();
+    Ok(advance(mesh1, motion1, mesh2, motion2, options, &mut cache)?.is_none())
+}
+
+/// The advancement: where it ended when the meshes came within the tolerance, `None` when they
+/// stayed apart up to `t = 1`.
+fn advance(
+    mesh1: &TriMesh,
+    motion1: &Motion,
+    mesh2: &TriMesh,
+    motion2: &Motion,
+    options: &ContactOptions,
+    cache: &mut ContactCache,
+) -> Result<Option<Ends>, ContactError> {
     let delta = validate(mesh1, motion1, mesh2, motion2, options)?;
     let resolution = NORMAL_RESOLUTION * scene_scale(mesh1, motion1, mesh2, motion2);
     let (start1, start2) = (motion1.pose_at(0.0), motion2.pose_at(0.0));
     if collide(mesh1, &start1, mesh2, &start2) {
-        let ends = Ends {
+        return Ok(Some(Ends {
             time: 0.0,
             earlier: None,
             resolution,
             iterations: 0,
             status: ContactStatus::StartedInContact,
-        };
-        return Ok(Some(finish(mesh1, motion1, mesh2, motion2, ends, cache)));
+        }));
     }
     let small_radius = mesh1.bounding_radius().min(mesh2.bounding_radius());
     let far = (50.0 * delta).max(small_radius / 50.0);
@@ -215,14 +248,13 @@ pub fn time_of_contact_with_cache(
         match search.run(t, window.min(1.0 - t), slack, cache.pair) {
             StepOutcome::Within { pair } => {
                 cache.pair = Some(pair);
-                let ends = Ends {
+                return Ok(Some(Ends {
                     time: t,
                     earlier,
                     resolution,
                     iterations: iteration,
                     status: ContactStatus::Converged,
-                };
-                return Ok(Some(finish(mesh1, motion1, mesh2, motion2, ends, cache)));
+                }));
             }
             StepOutcome::Step { dt, pair, distance } => {
                 cache.pair = pair.or(cache.pair);
