@@ -10,12 +10,11 @@ Panda link). Usage: python bench/compare_fcl.py [--quick] [--out FILE] [--poses-
 import argparse
 import statistics
 import sys
-import time
 
 import numpy as np
 
 import tocsin
-from _common import fcl_model, machine_line, models, pose, rotation, write
+from _common import fcl_model, machine_line, models, pose, rotation, timed_pair, write
 
 try:
     import fcl
@@ -26,23 +25,6 @@ except ImportError:  # pragma: no cover
 def selected_models(quick):
     out = models(["knot2.8k", "knot11k", "knot34k", "bunny", "panda_link0"])
     return {k: out[k] for k in list(out)[:1]} if quick else out
-
-
-def timed_pair(fa, fb, repeats, block=10):
-    """Medians of `repeats` timings of `fa` and of `fb`, taken in alternating blocks of
-    `block` calls, so that a slow spell of this shared machine falls on both sides
-    (python-fcl's median at the same pose moved by up to 2x between runs). Within a block the
-    caches stay warm for that library, as in a loop of queries on one mesh pair; alternating
-    call by call instead made both libraries slower, tocsin up to 3x on knot34k (each flushes
-    the other's hierarchy from the caches)."""
-    sa, sb = [], []
-    while len(sa) < repeats:
-        for fn, samples in ((fa, sa), (fb, sb)):
-            for _ in range(min(block, repeats - len(samples))):
-                t0 = time.perf_counter()
-                fn()
-                samples.append(time.perf_counter() - t0)
-    return statistics.median(sa), statistics.median(sb)
 
 
 def random_turn(rng):

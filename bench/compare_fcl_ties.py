@@ -8,31 +8,17 @@ in blocks of calls. Usage: python bench/compare_fcl_ties.py [--quick] [--out FIL
 """
 
 import argparse
-import statistics
 import sys
-import time
 
 import numpy as np
 
 import tocsin
-from _common import fcl_model, machine_line, write
+from _common import fcl_model, machine_line, timed_pair, write
 
 try:
     import fcl
 except ImportError:  # pragma: no cover
     sys.exit("python-fcl is not installed: pip install python-fcl (make bench-python does)")
-
-
-def timed_pair(fa, fb, repeats, block=5):
-    """Medians of `repeats` calls of `fa` and of `fb`, alternating in blocks."""
-    sa, sb = [], []
-    while len(sa) < repeats:
-        for fn, samples in ((fa, sa), (fb, sb)):
-            for _ in range(min(block, repeats - len(samples))):
-                t0 = time.perf_counter()
-                fn()
-                samples.append(time.perf_counter() - t0)
-    return statistics.median(sa), statistics.median(sb)
 
 
 def lifted(z):
@@ -57,6 +43,7 @@ def distance_row(name, m1, m2, p2, repeats):
         lambda: tocsin.distance(m1, np.eye(4), m2, p2),
         lambda: fcl.distance(o1, o2, req, fcl.DistanceResult()),
         repeats,
+        block=5,
     )
     check = f"|diff| {abs(ours - theirs):.1e}"
     return (name, f"{m1.num_triangles} + {m2.num_triangles}", "distance", a, b, check)
@@ -78,6 +65,7 @@ def drop_row(n_plate, n_floor, repeats):
         lambda: tocsin.time_of_contact(plate, fall, floor, still),
         lambda: fcl.distance(o1, o2, req, fcl.DistanceResult()),
         repeats,
+        block=5,
     )
     check = f"t = {c.time:.6f}, {c.iterations} iterations"
     name = "plate dropped on a floor (tocsin time_of_contact; fcl: one distance at its end)"

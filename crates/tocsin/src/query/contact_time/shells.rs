@@ -315,9 +315,8 @@ impl AxisShells {
             lo: z_s.lo - slide,
             hi: z_s.hi + slide,
         };
-        // Smallest distances from the line: from each triangle's own volume bound would need
-        // the volume; a line-triangle distance is bounded below by the point-free form
-        // `rho(centroid) - max |corner - centroid|`, enough where the triangles face the axis.
+        // Smallest distances from the line: `rho(centroid) - max |corner - centroid|`, below
+        // the exact line-triangle distance and enough where the triangles face the axis.
         let rho_lo = |tri: &[Vec3; 3], p: Vec3, d: Vec3| {
             let c = (tri[0] + tri[1] + tri[2]) / 3.0;
             let rel = c - p;
