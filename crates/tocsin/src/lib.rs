@@ -18,6 +18,7 @@ pub mod math;
 pub mod mesh;
 pub mod motion;
 pub mod query;
+pub mod robot;
 
 pub use error::{ContactError, MeshError, MotionError, OptionsError, PoseError};
 pub use math::{Mat3, Mat4, Pose, Vec3};
@@ -32,6 +33,7 @@ pub use query::distance::{
     distance, distance_batch, distance_with_cache, within_distance, DistanceCache, DistanceOptions,
     DistanceResult,
 };
+pub use robot::{Robot, RobotError};
 
 /// The README's Rust quickstart, compiled and run as a doctest.
 #[doc = include_str!("../../../README.md")]

@@ -70,6 +70,13 @@ impl TriMesh {
         })
     }
 
+    /// The vertices and triangles of an OBJ, STL or PLY file, without building a mesh.
+    pub(crate) fn load_raw(
+        path: &std::path::Path,
+    ) -> Result<(Vec<Vec3>, Vec<[u32; 3]>), MeshError> {
+        load::load_file(path)
+    }
+
     /// The vertex coordinates, body frame.
     pub fn vertices(&self) -> &[Vec3] {
         &self.vertices

@@ -45,8 +45,27 @@ use crate::math::Vec3;
 use crate::motion::Motion;
 use crate::query::collide::collide;
 use crate::query::distance::{search_distance, DistanceCache, DistanceOptions};
-use crate::TriMesh;
+use crate::robot::chain::ChainPath;
+use crate::{Pose, TriMesh};
 use traverse::{StepOutcome, StepSearch};
+
+/// How a body moves over the step, as the advancement sees it: a rigid [`Motion`], or a robot
+/// link carried by its chain of joints under linear joint interpolation.
+#[derive(Clone, Copy)]
+pub(crate) enum Path<'a> {
+    Rigid(&'a Motion),
+    Chain(&'a ChainPath),
+}
+
+impl Path<'_> {
+    /// The body's world pose at time `t`.
+    pub(crate) fn pose_at(&self, t: f64) -> Pose {
+        match self {
+            Path::Rigid(m) => m.pose_at(t),
+            Path::Chain(c) => c.pose_at(t),
+        }
+    }
+}
 
 /// Below this fraction of the scene scale a distance's direction is rounding noise, and the
 /// normal is taken from the iterate before (module docs).
@@ -184,8 +203,9 @@ pub fn time_of_contact_with_cache(
     options: &ContactOptions,
     cache: &mut ContactCache,
 ) -> Result<Option<ContactTime>, ContactError> {
+    let (path1, path2) = (Path::Rigid(motion1), Path::Rigid(motion2));
     Ok(advance(mesh1, motion1, mesh2, motion2, options, cache)?
-        .map(|ends| finish(mesh1, motion1, mesh2, motion2, ends, cache)))
+        .map(|ends| finish(mesh1, path1, mesh2, path2, ends, cache)))
 }
 
 /// Whether the motions are free of contact: `true` when the meshes stay farther apart than
@@ -208,8 +228,7 @@ pub fn motion_is_free(
     Ok(advance(mesh1, motion1, mesh2, motion2, options, &mut cache)?.is_none())
 }
 
-/// The advancement: where it ended when the meshes came within the tolerance, `None` when they
-/// stayed apart up to `t = 1`.
+/// The advancement of two rigid motions over `[0, 1]` (module docs).
 fn advance(
     mesh1: &TriMesh,
     motion1: &Motion,
@@ -220,10 +239,49 @@ fn advance(
 ) -> Result<Option<Ends>, ContactError> {
     let delta = validate(mesh1, motion1, mesh2, motion2, options)?;
     let resolution = NORMAL_RESOLUTION * scene_scale(mesh1, motion1, mesh2, motion2);
-    let (start1, start2) = (motion1.pose_at(0.0), motion2.pose_at(0.0));
+    let span = Span {
+        start: 0.0,
+        end: 1.0,
+        delta,
+        resolution,
+        max_iterations: options.max_iterations,
+    };
+    advance_paths(
+        mesh1,
+        Path::Rigid(motion1),
+        mesh2,
+        Path::Rigid(motion2),
+        &span,
+        cache,
+    )
+}
+
+/// What an advancement covers: the times, the tolerance, the scale below which a direction is
+/// noise, and the iteration cap.
+pub(crate) struct Span {
+    pub start: f64,
+    pub end: f64,
+    pub delta: f64,
+    pub resolution: f64,
+    pub max_iterations: usize,
+}
+
+/// The advancement over `[span.start, span.end]`: where it ended when the meshes came within
+/// the tolerance, `None` when they stayed apart up to `span.end`. Meshes that touch at the start
+/// end it at once, with [`ContactStatus::StartedInContact`].
+pub(crate) fn advance_paths(
+    mesh1: &TriMesh,
+    path1: Path<'_>,
+    mesh2: &TriMesh,
+    path2: Path<'_>,
+    span: &Span,
+    cache: &mut ContactCache,
+) -> Result<Option<Ends>, ContactError> {
+    let (delta, resolution) = (span.delta, span.resolution);
+    let (start1, start2) = (path1.pose_at(span.start), path2.pose_at(span.start));
     if collide(mesh1, &start1, mesh2, &start2) {
         return Ok(Some(Ends {
-            time: 0.0,
+            time: span.start,
             earlier: None,
             resolution,
             iterations: 0,
@@ -232,20 +290,20 @@ fn advance(
     }
     let small_radius = mesh1.bounding_radius().min(mesh2.bounding_radius());
     let far = (50.0 * delta).max(small_radius / 50.0);
-    let mut search = StepSearch::new(mesh1, motion1, mesh2, motion2, delta);
-    let mut t = 0.0;
+    let mut search = StepSearch::new(mesh1, path1, mesh2, path2, delta);
+    let mut t = span.start;
     let mut earlier = None;
     let mut last_distance = f64::INFINITY;
     // Bounds are taken over a window twice the last step (the whole rest at first): tighter
-    // than over all of [t, 1] when the rotation axis is far from the bodies.
-    let mut window = 1.0_f64;
-    for iteration in 1..=options.max_iterations {
+    // than over all of [t, end] when the rotation axis is far from the bodies.
+    let mut window = span.end - span.start;
+    for iteration in 1..=span.max_iterations {
         let slack = if last_distance > far {
             FAR_SLACK
         } else {
             NEAR_SLACK
         };
-        match search.run(t, window.min(1.0 - t), slack, cache.pair) {
+        match search.run(t, window.min(span.end - t), slack, cache.pair) {
             StepOutcome::Within { pair } => {
                 cache.pair = Some(pair);
                 return Ok(Some(Ends {
@@ -259,7 +317,10 @@ fn advance(
             StepOutcome::Step { dt, pair, distance } => {
                 cache.pair = pair.or(cache.pair);
                 last_distance = distance;
-                if t + dt >= 1.0 {
+                if t + dt >= span.end {
+                    if std::env::var("TOCSIN_TRACE").is_ok() {
+                        eprintln!("  free after {iteration} iterations");
+                    }
                     return Ok(None);
                 }
                 if distance > resolution {
@@ -268,13 +329,13 @@ fn advance(
                 t += dt;
                 // A step that no pair limited (the whole window was certified) lets the next
                 // window grow faster: a turning body certified by the rotation shells would
-                // otherwise double its way to t = 1.
+                // otherwise double its way to the end.
                 window = if pair.is_none() { 8.0 * dt } else { 2.0 * dt };
             }
         }
     }
     Err(ContactError::IterationLimit {
-        iterations: options.max_iterations,
+        iterations: span.max_iterations,
         time_reached: t,
     })
 }
@@ -328,20 +389,20 @@ pub fn time_of_contact_batch(
 
 /// How the advancement ended: the time, the last iterate before it where the meshes were
 /// clearly apart, the scale below which a direction is noise, the count and the status.
-struct Ends {
-    time: f64,
+pub(crate) struct Ends {
+    pub time: f64,
     earlier: Option<f64>,
     resolution: f64,
-    iterations: usize,
-    status: ContactStatus,
+    pub iterations: usize,
+    pub status: ContactStatus,
 }
 
 /// The result at `ends.time`: one exact distance query, warm-started from the last pair.
-fn finish(
+pub(crate) fn finish(
     mesh1: &TriMesh,
-    motion1: &Motion,
+    motion1: Path<'_>,
     mesh2: &TriMesh,
-    motion2: &Motion,
+    motion2: Path<'_>,
     ends: Ends,
     cache: &mut ContactCache,
 ) -> ContactTime {

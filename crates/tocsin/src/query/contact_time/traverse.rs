@@ -5,6 +5,7 @@
 //! every triangle pair. A triangle pair within `delta` ends the search.
 
 use super::shells::AxisShells;
+use super::Path;
 use crate::bvh::{
     rss_separation, ASide, BSide, Bvh, ColumnPair, Expansion, Lanes4, Node, RelativeRss,
     PROJECT_MAX,
@@ -12,6 +13,7 @@ use crate::bvh::{
 use crate::math::{Mat3, Pose, Vec3};
 use crate::motion::Motion;
 use crate::query::distance::distance_triangle_triangle;
+use crate::robot::chain::ChainKinematics;
 use crate::TriMesh;
 
 /// What one iteration found.
@@ -30,8 +32,8 @@ pub(crate) enum StepOutcome {
 pub(crate) struct StepSearch<'a> {
     bvh1: &'a Bvh,
     bvh2: &'a Bvh,
-    motion1: &'a Motion,
-    motion2: &'a Motion,
+    motion1: Path<'a>,
+    motion2: Path<'a>,
     delta: f64,
     // Per-iteration state.
     rot12: Mat3,
@@ -43,8 +45,8 @@ pub(crate) struct StepSearch<'a> {
     /// Mesh 2's world rotation at the current time.
     rot2: Mat3,
     /// The two motions seen from mesh 1's frame at the current time.
-    kin1: Kinematics,
-    kin2: Kinematics,
+    kin1: BodyKinematics,
+    kin2: BodyKinematics,
     /// Both meshes' corner columns at the current relative pose (small subtree pairs are also
     /// bounded by projecting their points on the pair's axis, as in the distance search).
     columns: Option<ColumnPair<'a>>,
@@ -120,6 +122,30 @@ impl Kinematics {
     }
 }
 
+/// A body's motion bound at the current time: a rigid motion's velocities, or a robot link's
+/// chain of joints (both in mesh 1's frame).
+enum BodyKinematics {
+    Rigid(Kinematics),
+    Chain(ChainKinematics),
+}
+
+impl BodyKinematics {
+    /// Refreshes the bound for time `t`; `world_to_mesh1` maps world into mesh 1's frame.
+    fn update(&mut self, path: Path<'_>, t: f64, world_to_mesh1: &Pose) {
+        match path {
+            Path::Rigid(m) => *self = Self::Rigid(Kinematics::new(m, &world_to_mesh1.rotation)),
+            Path::Chain(c) => {
+                if !matches!(self, Self::Chain(_)) {
+                    *self = Self::Chain(ChainKinematics::default());
+                }
+                if let Self::Chain(k) = self {
+                    c.kinematics_at(t, world_to_mesh1, k);
+                }
+            }
+        }
+    }
+}
+
 /// A set of body points for the motion bounds: a ball (body frame) and a bound `rho` on the
 /// points' distance from the motion's rotation axis.
 struct PointSet {
@@ -131,23 +157,30 @@ struct PointSet {
 impl PointSet {
     /// A node's volume: its RSS centre and bounding radius (on demand: a query touches few nodes).
     #[inline]
-    fn node(node: &Node, motion: &Motion) -> Self {
+    fn node(node: &Node, motion: Path<'_>) -> Self {
         let (center, radius) = (node.rss.center, node.rss.bounding_radius());
+        let rho = match motion {
+            Path::Rigid(m) => m.axis_distance(center) + radius,
+            Path::Chain(_) => 0.0,
+        };
         Self {
             center,
             radius,
-            rho: motion.axis_distance(center) + radius,
+            rho,
         }
     }
 
     /// A triangle: its centroid, the farthest corner, and the largest corner axis distance.
     #[inline]
-    fn triangle(t: &[Vec3; 3], motion: &Motion) -> Self {
+    fn triangle(t: &[Vec3; 3], motion: Path<'_>) -> Self {
         let center = (t[0] + t[1] + t[2]) / 3.0;
         let radius = t.iter().fold(0.0_f64, |m, &p| m.max((p - center).length()));
-        let rho = t
-            .iter()
-            .fold(0.0_f64, |m, &p| m.max(motion.axis_distance(p)));
+        let rho = match motion {
+            Path::Rigid(motion) => t
+                .iter()
+                .fold(0.0_f64, |m, &p| m.max(motion.axis_distance(p))),
+            Path::Chain(_) => 0.0,
+        };
         Self {
             center,
             radius,
@@ -159,11 +192,17 @@ impl PointSet {
 impl<'a> StepSearch<'a> {
     pub(crate) fn new(
         mesh1: &'a TriMesh,
-        motion1: &'a Motion,
+        motion1: Path<'a>,
         mesh2: &'a TriMesh,
-        motion2: &'a Motion,
+        motion2: Path<'a>,
         delta: f64,
     ) -> Self {
+        let shells = match (motion1, motion2) {
+            (Path::Rigid(m1), Path::Rigid(m2)) => {
+                AxisShells::new(m1, m2, mesh1.bvh().root(), mesh2.bvh().root())
+            }
+            _ => None,
+        };
         Self {
             bvh1: mesh1.bvh(),
             bvh2: mesh2.bvh(),
@@ -175,8 +214,8 @@ impl<'a> StepSearch<'a> {
             trans12: Vec3::ZERO,
             rot1: Mat3::IDENTITY,
             rot2: Mat3::IDENTITY,
-            kin1: Kinematics::new(motion1, &Mat3::IDENTITY),
-            kin2: Kinematics::new(motion2, &Mat3::IDENTITY),
+            kin1: BodyKinematics::Chain(ChainKinematics::default()),
+            kin2: BodyKinematics::Chain(ChainKinematics::default()),
             columns: None,
             lanes: Lanes4::detect(),
             window: 1.0,
@@ -185,7 +224,7 @@ impl<'a> StepSearch<'a> {
             closest: f64::INFINITY,
             slack: 0.0,
             stack: Vec::with_capacity(64),
-            shells: AxisShells::new(motion1, motion2, mesh1.bvh().root(), mesh2.bvh().root()),
+            shells,
             shells_on: false,
             t: 0.0,
         }
@@ -201,17 +240,23 @@ impl<'a> StepSearch<'a> {
             return 0.0;
         }
         let h = self.window;
-        let mu1 = if self.kin1.still {
-            0.0
-        } else {
-            let lever1 = s1.center - self.kin1.axis_point;
-            self.kin1.bound(n, lever1, s1.radius, s1.rho, h)
+        let mu1 = match &self.kin1 {
+            BodyKinematics::Rigid(k) if k.still => 0.0,
+            BodyKinematics::Rigid(k) => {
+                let lever1 = s1.center - k.axis_point;
+                k.bound(n, lever1, s1.radius, s1.rho, h)
+            }
+            BodyKinematics::Chain(c) => c.bound(n, s1.center, s1.radius, h),
         };
-        let mu2 = if self.kin2.still {
-            0.0
-        } else {
-            let lever2 = self.rot12 * (s2.center - self.kin2.axis_point);
-            self.kin2.bound(-n, lever2, s2.radius, s2.rho, h)
+        let mu2 = match &self.kin2 {
+            BodyKinematics::Rigid(k) if k.still => 0.0,
+            BodyKinematics::Rigid(k) => {
+                let lever2 = self.rot12 * (s2.center - k.axis_point);
+                k.bound(-n, lever2, s2.radius, s2.rho, h)
+            }
+            BodyKinematics::Chain(c) => {
+                c.bound(-n, self.rot12 * s2.center + self.trans12, s2.radius, h)
+            }
         };
         let mu = mu1 + mu2;
         if mu <= 0.0 {
@@ -219,6 +264,23 @@ impl<'a> StepSearch<'a> {
         } else {
             margin / mu
         }
+    }
+
+    /// Bound on the two point sets' speeds in any direction (over the window).
+    #[inline]
+    fn speed(&self, s1: &PointSet, s2: &PointSet) -> f64 {
+        let h = self.window;
+        let v1 = match &self.kin1 {
+            BodyKinematics::Rigid(k) => k.speed(s1.rho),
+            BodyKinematics::Chain(c) => c.speed(s1.center, s1.radius, h),
+        };
+        let v2 = match &self.kin2 {
+            BodyKinematics::Rigid(k) => k.speed(s2.rho),
+            BodyKinematics::Chain(c) => {
+                c.speed(self.rot12 * s2.center + self.trans12, s2.radius, h)
+            }
+        };
+        v1 + v2
     }
 
     /// Certified step of a node pair whose relative frame is `rel`. The separating-axis search
@@ -234,7 +296,7 @@ impl<'a> StepSearch<'a> {
             PointSet::node(a, self.motion1),
             PointSet::node(b, self.motion2),
         );
-        let mu_max = self.kin1.speed(s1.rho) + self.kin2.speed(s2.rho);
+        let mu_max = self.speed(&s1, &s2);
         let cutoff = 0.5 * self.delta + mu_max * self.best / (1.0 + self.slack);
         let (gap, axis) = rss_separation(&a.rss, &b.rss, rel, cutoff);
         let n = a.rss.axes * axis;
@@ -320,10 +382,10 @@ impl<'a> StepSearch<'a> {
         (self.rot12, self.trans12) = (pos12.rotation, pos12.translation);
         self.rot21 = pos12.rotation.transpose();
         (self.rot1, self.rot2, self.window) = (pose1.rotation, pose2.rotation, window);
-        let to_mesh1 = pose1.rotation.transpose();
+        let world_to_mesh1 = pose1.inverse();
         self.columns = ColumnPair::new(self.bvh1, self.bvh2, &pos12);
-        self.kin1 = Kinematics::new(self.motion1, &to_mesh1);
-        self.kin2 = Kinematics::new(self.motion2, &to_mesh1);
+        self.kin1.update(self.motion1, t, &world_to_mesh1);
+        self.kin2.update(self.motion2, t, &world_to_mesh1);
         self.t = t;
         self.slack = slack;
         self.best = window * (1.0 + slack);
@@ -436,7 +498,7 @@ impl<'a> StepSearch<'a> {
                 PointSet::node(a, self.motion1),
                 PointSet::node(b, self.motion2),
             );
-            let speed = self.kin1.speed(s1.rho) + self.kin2.speed(s2.rho);
+            let speed = self.speed(&s1, &s2);
             let margin = bounds.gap[k] - 0.5 * self.delta;
             let mut step = if margin <= 0.0 {
                 0.0
@@ -527,6 +589,9 @@ impl<'a> StepSearch<'a> {
     /// bound) more than by the velocity of their centres along the gap: a body turning in a
     /// close fit, which the rotation certificates serve.
     fn rotation_limited(&self, leaf1: u32, leaf2: u32) -> bool {
+        let (Path::Rigid(motion1), Path::Rigid(motion2)) = (self.motion1, self.motion2) else {
+            return false;
+        };
         let t1 = &self.bvh1.leaf_triangles()[leaf1 as usize];
         let body2 = self.bvh2.leaf_triangles()[leaf2 as usize];
         let t2 = body2.map(|p| self.rot12 * p + self.trans12);
@@ -544,8 +609,8 @@ impl<'a> StepSearch<'a> {
             PointSet::triangle(t1, self.motion1),
             PointSet::triangle(&body2, self.motion2),
         );
-        let (c1, spread1) = parts(self.motion1, n, &self.rot1, &s1);
-        let (c2, spread2) = parts(self.motion2, -n, &self.rot2, &s2);
+        let (c1, spread1) = parts(motion1, n, &self.rot1, &s1);
+        let (c2, spread2) = parts(motion2, -n, &self.rot2, &s2);
         spread1 + spread2 > 4.0 * (c1 + c2).max(0.0)
     }
 }

@@ -1,0 +1,115 @@
+//! Robot segment checks on a URDF and a box/cylinder scene file, with a dense-sampling oracle:
+//! `cargo run --release --example profile_robot -- robot.urdf robot.srdf scene.txt [edges]`.
+//! Scene lines: `box name sx sy sz px py pz qx qy qz qw` or `cylinder name length radius px py
+//! pz qx qy qz qw` (MoveIt's conventions). Configurations: random within limits, edges of
+//! 0.5 rad from them.
+
+use rand::{Rng, SeedableRng};
+use std::sync::Arc;
+use std::time::Instant;
+use tocsin::robot::{query, RobotOptions, Scene};
+use tocsin::{Mat3, Pose, Robot, TriMesh, Vec3};
+
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    let mut robot = Robot::from_urdf_file(&args[1], &[]).expect("urdf");
+    robot.apply_srdf_file(&args[2]).expect("srdf");
+    let mut scene = Scene::new();
+    for line in std::fs::read_to_string(&args[3]).expect("scene").lines() {
+        let f: Vec<&str> = line.split_whitespace().collect();
+        let v: Vec<f64> = f[2..].iter().map(|x| x.parse().expect("number")).collect();
+        let rest = if f[0] == "box" { &v[3..] } else { &v[2..] };
+        let mesh = if f[0] == "box" {
+            tocsin::mesh::box_mesh(Vec3::new(v[0], v[1], v[2]) * 0.5).expect("box")
+        } else {
+            robot_cyl(v[0], v[1])
+        };
+        let q = glam::DQuat::from_xyzw(rest[3], rest[4], rest[5], rest[6]).normalize();
+        let pose = Pose {
+            rotation: Mat3::from_quat(q),
+            translation: Vec3::new(rest[0], rest[1], rest[2]),
+        };
+        scene.add(f[1], Arc::new(mesh), pose);
+    }
+    let edges: usize = args.get(4).map_or(200, |s| s.parse().expect("edges"));
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
+    let limits = robot.joint_limits().to_vec();
+    let opts = RobotOptions::default();
+    let mut free_t = Vec::new();
+    let mut coll_t = Vec::new();
+    let mut n_free = 0;
+    let mut starts = 0;
+    while free_t.len() + coll_t.len() < edges {
+        let q0: Vec<f64> = limits
+            .iter()
+            .map(|(lo, hi)| rng.random_range(*lo..=*hi))
+            .collect();
+        if query::in_collision(&robot, &q0, &scene).expect("q") {
+            continue;
+        }
+        starts += 1;
+        let dir: Vec<f64> = (0..q0.len()).map(|_| rng.random_range(-1.0..1.0)).collect();
+        let norm = dir.iter().map(|d| d * d).sum::<f64>().sqrt();
+        let q1: Vec<f64> = q0
+            .iter()
+            .zip(&dir)
+            .zip(&limits)
+            .map(|((q, d), (lo, hi))| (q + 0.5 * d / norm).clamp(*lo, *hi))
+            .collect();
+        let t = Instant::now();
+        let free = query::path_is_free(&robot, &q0, &q1, &scene, &opts).expect("free");
+        let dt = t.elapsed().as_secs_f64() * 1e6;
+        let toc = query::time_of_contact(&robot, &q0, &q1, &scene, &opts).expect("toc");
+        assert_eq!(free, toc.is_none());
+        // Oracle: 2000 samples.
+        let mut first = None;
+        let samples = if std::env::var("ORACLE").is_ok() {
+            2000
+        } else {
+            0
+        };
+        for k in 0..=samples {
+            let s = k as f64 / samples.max(1) as f64;
+            let q: Vec<f64> = q0.iter().zip(&q1).map(|(a, b)| a + s * (b - a)).collect();
+            if query::in_collision(&robot, &q, &scene).expect("q") {
+                first = Some(s);
+                break;
+            }
+        }
+        if let Some(s) = first {
+            let c = toc.as_ref().expect("a sampled collision was missed");
+            assert!(c.time <= s + 1e-12, "late: {} vs {s}", c.time);
+        }
+        if free {
+            n_free += 1;
+            free_t.push(dt);
+        } else {
+            coll_t.push(dt);
+        }
+    }
+    let med = |v: &mut Vec<f64>| {
+        v.sort_by(f64::total_cmp);
+        if v.is_empty() {
+            (f64::NAN, f64::NAN)
+        } else {
+            (v[v.len() / 2], v[v.len() * 9 / 10])
+        }
+    };
+    println!(
+        "{} objects, {} self pairs, {} obstacles; {starts} starts; free {n_free}: median/p90 {:?} us; colliding {}: {:?} us",
+        robot.objects().len(),
+        robot.self_pairs().len(),
+        scene.obstacles().len(),
+        med(&mut free_t),
+        coll_t.len(),
+        med(&mut coll_t)
+    );
+}
+
+fn robot_cyl(length: f64, radius: f64) -> TriMesh {
+    let xml = format!(
+        "<robot name='c'><link name='a'><collision><geometry><cylinder radius='{radius}' length='{length}'/></geometry></collision></link></robot>"
+    );
+    let r = Robot::from_urdf_str(&xml, None, &[]).expect("cyl");
+    (*r.objects()[0].mesh).clone()
+}

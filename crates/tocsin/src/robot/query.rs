@@ -1,0 +1,639 @@
+//! The planner's queries on a straight joint-space segment `q(t) = q0 + t (q1 - q0)`:
+//! [`time_of_contact`], [`path_is_free`], [`check_configurations`], and their batches.
+//!
+//! # How a segment is checked
+//!
+//! 1. **Pairs.** The robot's self pairs (see [`Robot`]) and every (robot object, obstacle) pair.
+//! 2. **Swept boxes (temporal culling).** The segment is cut into [`RobotOptions::sub_intervals`]
+//!    equal pieces. On a piece `[ta, tb]`, an object lies within `v (tb - ta) / 2` of where it is
+//!    at the middle time, `v` the object's largest speed over the segment (the chain bound, see
+//!    `chain.rs`), so its world box at the middle (from its root volume) grown by that much, and
+//!    by `delta / 2`, holds it over the whole piece. A pair whose boxes are apart on a piece
+//!    cannot come within `delta` there; the pieces where they overlap are merged into spans.
+//! 3. **Advancement.** Each pair runs the rigid core's conservative advancement (the same step
+//!    search, with the chain bound in place of the rigid one) over each of its spans, earliest
+//!    span first. For the time of contact, a span that starts after the earliest contact found
+//!    so far is skipped and the others stop there; [`path_is_free`] stops at the first contact.
+//!
+//! The answer has the semantics of the rigid query, pair by pair: a contact is reported
+//! whenever some checked pair comes closer than `delta / 2` (in particular whenever one
+//! collides), never when every pair stays farther apart than `delta`, and the time returned is
+//! no later than the first collision.
+
+use std::sync::Arc;
+
+use super::{chain::ChainPath, Robot, RobotError};
+use crate::bvh::{rss_separation, RelativeRss};
+use crate::math::{Pose, Vec3};
+use crate::motion::Motion;
+use crate::query::collide::collide;
+use crate::query::contact_time::{
+    advance_paths, finish, ContactCache, ContactStatus, Path, Span, NORMAL_RESOLUTION,
+};
+use crate::TriMesh;
+
+/// Iterations after which [`path_is_free`] probes a pair for a collision at the end of its
+/// span.
+const PROBE_AFTER: usize = 3;
+
+/// Static obstacles the robot is checked against.
+#[derive(Clone, Debug, Default)]
+pub struct Scene {
+    obstacles: Vec<Obstacle>,
+}
+
+/// One obstacle: a named mesh at a world pose.
+#[derive(Clone, Debug)]
+pub struct Obstacle {
+    /// Its name (reported in contacts).
+    pub name: String,
+    /// The mesh (shared: many obstacles may use one mesh).
+    pub mesh: Arc<TriMesh>,
+    /// Its world pose.
+    pub pose: Pose,
+    /// Its world box (min, max corners).
+    bounds: (Vec3, Vec3),
+    /// Its motion (stationary), for the advancement.
+    motion: Motion,
+}
+
+impl Scene {
+    /// An empty scene.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Adds an obstacle.
+    pub fn add(&mut self, name: &str, mesh: Arc<TriMesh>, pose: Pose) {
+        let bounds = world_box(&mesh, &pose, 0.0);
+        self.obstacles.push(Obstacle {
+            name: name.to_string(),
+            motion: Motion::stationary(pose),
+            mesh,
+            pose,
+            bounds,
+        });
+    }
+
+    /// The obstacles.
+    pub fn obstacles(&self) -> &[Obstacle] {
+        &self.obstacles
+    }
+}
+
+/// Options of the robot queries.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RobotOptions {
+    /// Distance tolerance `delta` (model units, > 0). `None`: `1e-3` times the smallest
+    /// bounding radius among the robot's collision objects.
+    pub tolerance: Option<f64>,
+    /// Iteration cap of each pair's advancement (>= 1). Default 1000.
+    pub max_iterations: usize,
+    /// Levels of the binary time subdivision of the culling (module docs; 0 to 20): pieces of
+    /// `2^-cull_depth` of the segment at the finest. Default 4.
+    pub cull_depth: u32,
+}
+
+impl Default for RobotOptions {
+    fn default() -> Self {
+        Self {
+            tolerance: None,
+            max_iterations: 1000,
+            cull_depth: 4,
+        }
+    }
+}
+
+/// Where and when the robot first comes within the tolerance of itself or an obstacle.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RobotContact {
+    /// Time in `[0, 1]` along the segment, no later than the first collision.
+    pub time: f64,
+    /// The robot object (link or attached object) of the pair.
+    pub object1: String,
+    /// The other object: a robot link (self-collision) or an obstacle.
+    pub object2: String,
+    /// Whether `object2` is part of the robot.
+    pub self_collision: bool,
+    /// Closest point on `object1`, world frame.
+    pub point1: Vec3,
+    /// Closest point on `object2`, world frame.
+    pub point2: Vec3,
+    /// Unit normal from `object1` to `object2`, world frame (rules of the rigid query).
+    pub normal: Vec3,
+    /// Distance at `time` (at most the tolerance).
+    pub distance: f64,
+    /// Advancement iterations of the pair that made the contact.
+    pub iterations: usize,
+    /// [`ContactStatus::StartedInContact`] when in contact at `q0`.
+    pub status: ContactStatus,
+}
+
+/// A pair to check: robot object `a` and either robot object `b` or obstacle `b`.
+#[derive(Clone, Copy, Debug)]
+struct Pair {
+    a: usize,
+    b: usize,
+    obstacle: bool,
+}
+
+/// Everything one segment needs, built once per query.
+struct Segment<'r> {
+    robot: &'r Robot,
+    scene: &'r Scene,
+    v0: Vec<f64>,
+    v1: Vec<f64>,
+    /// Each object's world path.
+    paths: Vec<ChainPath>,
+    delta: f64,
+    max_iterations: usize,
+    /// Levels of the binary time subdivision used by the culling.
+    depth: u32,
+}
+
+/// Body poses at the middle of each culling interval, computed on first use (heap order: node
+/// 1 is `[0, 1]`, node `k` has children `2k` and `2k + 1`).
+struct PoseCache(Vec<Option<Vec<Pose>>>);
+
+fn check_options(options: &RobotOptions) -> Result<(), RobotError> {
+    use crate::OptionsError;
+    if let Some(t) = options.tolerance {
+        if !(t.is_finite() && t > 0.0) {
+            return Err(crate::ContactError::Options(OptionsError::OutOfRange {
+                name: "tolerance",
+                requirement: "must be positive and finite",
+                value: t,
+            })
+            .into());
+        }
+    }
+    if options.max_iterations == 0 {
+        return Err(crate::ContactError::Options(OptionsError::OutOfRange {
+            name: "max_iterations",
+            requirement: "must be at least 1",
+            value: 0.0,
+        })
+        .into());
+    }
+    if options.cull_depth > 20 {
+        return Err(crate::ContactError::Options(OptionsError::OutOfRange {
+            name: "cull_depth",
+            requirement: "must be at most 20",
+            value: options.cull_depth as f64,
+        })
+        .into());
+    }
+    Ok(())
+}
+
+/// The tolerance the robot queries use with these options.
+pub fn robot_tolerance(robot: &Robot, options: &RobotOptions) -> f64 {
+    options.tolerance.unwrap_or_else(|| {
+        let r = robot
+            .objects
+            .iter()
+            .map(|o| o.mesh.bounding_radius())
+            .fold(f64::INFINITY, f64::min);
+        if r.is_finite() && r > 0.0 {
+            1e-3 * r
+        } else {
+            1e-9
+        }
+    })
+}
+
+impl<'r> Segment<'r> {
+    fn new(
+        robot: &'r Robot,
+        q0: &[f64],
+        q1: &[f64],
+        scene: &'r Scene,
+        options: &RobotOptions,
+    ) -> Result<Self, RobotError> {
+        check_options(options)?;
+        robot.check_configuration(q0, "q0")?;
+        robot.check_configuration(q1, "q1")?;
+        let (v0, v1) = (robot.joint_values(q0), robot.joint_values(q1));
+        let paths = (0..robot.objects.len())
+            .map(|o| robot.object_path(o, &v0, &v1, 0))
+            .collect::<Vec<_>>();
+        Ok(Self {
+            robot,
+            scene,
+            v0,
+            v1,
+            paths,
+            delta: robot_tolerance(robot, options),
+            max_iterations: options.max_iterations,
+            depth: options.cull_depth,
+        })
+    }
+
+    /// Body poses at the middle of culling node `node` (interval `[ta, tb]`).
+    fn poses<'c>(&self, cache: &'c mut PoseCache, node: usize, mid: f64) -> &'c [Pose] {
+        if cache.0[node].is_none() {
+            let q: Vec<f64> = self
+                .v0
+                .iter()
+                .zip(&self.v1)
+                .map(|(a, b)| a + mid * (b - a))
+                .collect();
+            cache.0[node] = Some(self.robot.body_poses_from_values(&q));
+        }
+        cache.0[node].as_deref().unwrap_or_default()
+    }
+
+    /// The spans of `[ta, tb]` (culling node `node` at `level`) where the pair's swept volumes
+    /// may meet, appended to `out` (adjacent spans merged).
+    #[allow(clippy::too_many_arguments)]
+    fn spans(
+        &self,
+        pair: Pair,
+        cache: &mut PoseCache,
+        node: usize,
+        level: u32,
+        ta: f64,
+        tb: f64,
+        out: &mut Vec<(f64, f64)>,
+    ) {
+        let mid = 0.5 * (ta + tb);
+        let half = 0.5 * (tb - ta);
+        let poses = self.poses(cache, node, mid);
+        let oa = &self.robot.objects[pair.a];
+        let pa = poses[oa.body];
+        let grow_a = self.paths[pair.a].max_speed() * half;
+        let (mb, pb, grow_b) = if pair.obstacle {
+            let o = &self.scene.obstacles[pair.b];
+            (&o.mesh, o.pose, 0.0)
+        } else {
+            let ob = &self.robot.objects[pair.b];
+            (
+                &ob.mesh,
+                poses[ob.body],
+                self.paths[pair.b].max_speed() * half,
+            )
+        };
+        let reach = grow_a + grow_b + self.delta;
+        let (ra, rb) = (oa.mesh.bvh().root(), mb.bvh().root());
+        let rel12 = pa.inv_mul(&pb);
+        let rel = RelativeRss::new(ra, rb, &rel12.rotation, rel12.translation);
+        if rss_separation(ra, rb, &rel, reach).0 > reach {
+            return;
+        }
+        if level == self.depth {
+            match out.last_mut() {
+                Some(last) if last.1 == ta => last.1 = tb,
+                _ => out.push((ta, tb)),
+            }
+            return;
+        }
+        self.spans(pair, cache, 2 * node, level + 1, ta, mid, out);
+        self.spans(pair, cache, 2 * node + 1, level + 1, mid, tb, out);
+    }
+
+    /// Every pair with the spans where its swept volumes may meet, earliest span first.
+    fn candidates(&self) -> Vec<(f64, f64, Pair)> {
+        let mut cache = PoseCache(vec![None; 2 << self.depth]);
+        let mut out = Vec::new();
+        let mut spans = Vec::new();
+        let pairs = self
+            .robot
+            .self_pairs
+            .iter()
+            .map(|&(a, b)| Pair {
+                a,
+                b,
+                obstacle: false,
+            })
+            .chain((0..self.robot.objects.len()).flat_map(|a| {
+                (0..self.scene.obstacles.len()).map(move |b| Pair {
+                    a,
+                    b,
+                    obstacle: true,
+                })
+            }));
+        for pair in pairs {
+            spans.clear();
+            self.spans(pair, &mut cache, 1, 0, 0.0, 1.0, &mut spans);
+            out.extend(spans.iter().map(|&(a, b)| (a, b, pair)));
+        }
+        out.sort_by(|x, y| x.0.total_cmp(&y.0));
+        out
+    }
+
+    /// The pair's two paths: for two robot objects, relative to the deepest body both hang
+    /// from (the joints they share move both alike and drop out of the bound), with that
+    /// body's index.
+    fn pair_paths(&self, pair: Pair) -> (Option<(ChainPath, ChainPath)>, usize) {
+        if pair.obstacle {
+            return (None, 0);
+        }
+        let (oa, ob) = (&self.robot.objects[pair.a], &self.robot.objects[pair.b]);
+        let (ca, cb) = (
+            &self.robot.bodies[oa.body].chain,
+            &self.robot.bodies[ob.body].chain,
+        );
+        let common = ca.iter().zip(cb).take_while(|(x, y)| x == y).count();
+        if common == 0 {
+            return (None, 0);
+        }
+        let ancestor = self.robot.joints[ca[common - 1]].child;
+        (
+            Some((
+                self.robot.object_path(pair.a, &self.v0, &self.v1, common),
+                self.robot.object_path(pair.b, &self.v0, &self.v1, common),
+            )),
+            ancestor,
+        )
+    }
+
+    /// Advances every candidate; `first_only` stops at the first contact found.
+    fn run(&self, first_only: bool) -> Result<Option<RobotContact>, RobotError> {
+        type Found = (f64, Pair, crate::query::contact_time::Ends, ContactCache);
+        let mut best: Option<Found> = None;
+        for (start, end, pair) in self.candidates() {
+            let limit = best.as_ref().map_or(1.0, |b| b.0);
+            if start >= limit {
+                break;
+            }
+            let (relative, _) = self.pair_paths(pair);
+            let (m1, p1, m2, p2) = self.meshes(pair, relative.as_ref());
+            let scale = m1.bounding_radius()
+                + m2.bounding_radius()
+                + p1.pose_at(start).translation.length()
+                + p2.pose_at(start).translation.length();
+            let span = Span {
+                start,
+                end: end.min(limit),
+                delta: self.delta,
+                resolution: NORMAL_RESOLUTION * scale,
+                max_iterations: self.max_iterations,
+            };
+            let mut cache = ContactCache::default();
+            let found = if first_only {
+                // A yes/no answer: a pair still undecided after a few iterations is probed
+                // for a collision at the end of its span, which settles a colliding edge
+                // without converging to the contact.
+                let short = Span {
+                    max_iterations: PROBE_AFTER,
+                    ..span
+                };
+                match advance_paths(m1, p1, m2, p2, &short, &mut cache) {
+                    Err(crate::ContactError::IterationLimit { time_reached, .. }) => {
+                        let at = span.end;
+                        if collide(m1, &p1.pose_at(at), m2, &p2.pose_at(at)) {
+                            return Ok(Some(self.contact_at(pair, at)));
+                        }
+                        let rest = Span {
+                            start: time_reached,
+                            ..span
+                        };
+                        advance_paths(m1, p1, m2, p2, &rest, &mut cache)?
+                    }
+                    other => other?,
+                }
+            } else {
+                advance_paths(m1, p1, m2, p2, &span, &mut cache)?
+            };
+            if let Some(ends) = found {
+                if best.as_ref().is_none_or(|b| ends.time < b.0) {
+                    best = Some((ends.time, pair, ends, cache));
+                }
+                if first_only {
+                    break;
+                }
+            }
+        }
+        Ok(best.map(|(time, pair, mut ends, mut cache)| {
+            let (relative, ancestor) = self.pair_paths(pair);
+            let (m1, p1, m2, p2) = self.meshes(pair, relative.as_ref());
+            if time > 0.0 && ends.status == ContactStatus::StartedInContact {
+                ends.status = ContactStatus::Converged;
+            }
+            let c = finish(m1, p1, m2, p2, ends, &mut cache);
+            // Relative paths give points in the ancestor body's frame.
+            let frame = if relative.is_some() {
+                let q: Vec<f64> = self
+                    .v0
+                    .iter()
+                    .zip(&self.v1)
+                    .map(|(a, b)| a + time * (b - a))
+                    .collect();
+                self.robot.body_poses_from_values(&q)[ancestor]
+            } else {
+                Pose::IDENTITY
+            };
+            RobotContact {
+                time,
+                object1: self.robot.objects[pair.a].name.clone(),
+                object2: if pair.obstacle {
+                    self.scene.obstacles[pair.b].name.clone()
+                } else {
+                    self.robot.objects[pair.b].name.clone()
+                },
+                self_collision: !pair.obstacle,
+                point1: frame.transform_point(c.point1),
+                point2: frame.transform_point(c.point2),
+                normal: frame.transform_vector(c.normal),
+                distance: c.distance,
+                iterations: c.iterations,
+                status: c.status,
+            }
+        }))
+    }
+
+    /// The report of a collision found by a probe at `time` (only its time and names matter:
+    /// [`path_is_free`] returns `false`).
+    fn contact_at(&self, pair: Pair, time: f64) -> RobotContact {
+        RobotContact {
+            time,
+            object1: self.robot.objects[pair.a].name.clone(),
+            object2: String::new(),
+            self_collision: !pair.obstacle,
+            point1: Vec3::ZERO,
+            point2: Vec3::ZERO,
+            normal: Vec3::Z,
+            distance: 0.0,
+            iterations: PROBE_AFTER,
+            status: ContactStatus::Converged,
+        }
+    }
+
+    fn meshes<'s>(
+        &'s self,
+        pair: Pair,
+        relative: Option<&'s (ChainPath, ChainPath)>,
+    ) -> (&'s TriMesh, Path<'s>, &'s TriMesh, Path<'s>) {
+        let a = &self.robot.objects[pair.a];
+        if pair.obstacle {
+            let o = &self.scene.obstacles[pair.b];
+            return (
+                &a.mesh,
+                Path::Chain(&self.paths[pair.a]),
+                &o.mesh,
+                Path::Rigid(&o.motion),
+            );
+        }
+        let b = &self.robot.objects[pair.b];
+        match relative {
+            Some((pa, pb)) => (&a.mesh, Path::Chain(pa), &b.mesh, Path::Chain(pb)),
+            None => (
+                &a.mesh,
+                Path::Chain(&self.paths[pair.a]),
+                &b.mesh,
+                Path::Chain(&self.paths[pair.b]),
+            ),
+        }
+    }
+}
+
+/// First time along `q0 -> q1` at which the robot comes within the tolerance of itself (pairs
+/// not allowed to touch) or of an obstacle of `scene` (module docs).
+///
+/// # Errors
+/// [`RobotError::Configuration`] for a configuration of the wrong length or with non-finite
+/// values; [`RobotError::Contact`] for bad options or an iteration cap reached.
+pub fn time_of_contact(
+    robot: &Robot,
+    q0: &[f64],
+    q1: &[f64],
+    scene: &Scene,
+    options: &RobotOptions,
+) -> Result<Option<RobotContact>, RobotError> {
+    Segment::new(robot, q0, q1, scene, options)?.run(false)
+}
+
+/// Whether the segment `q0 -> q1` is free: `true` when every checked pair stays farther apart
+/// than the tolerance, `false` as soon as one comes closer than half of it (exactly
+/// `time_of_contact(..).is_none()`, but stopping at the first contact found, which need not
+/// be the earliest). A planner's `checkMotion(s1, s2, lastValid)` wants the earliest: use
+/// [`time_of_contact`] for that.
+///
+/// # Errors
+/// As [`time_of_contact`].
+pub fn path_is_free(
+    robot: &Robot,
+    q0: &[f64],
+    q1: &[f64],
+    scene: &Scene,
+    options: &RobotOptions,
+) -> Result<bool, RobotError> {
+    Ok(Segment::new(robot, q0, q1, scene, options)?
+        .run(true)?
+        .is_none())
+}
+
+/// Whether the robot at `q` collides with itself (pairs not allowed to touch) or with an
+/// obstacle: exact triangle intersection (touching counts), no tolerance.
+///
+/// # Errors
+/// [`RobotError::Configuration`] for a bad configuration.
+pub fn in_collision(robot: &Robot, q: &[f64], scene: &Scene) -> Result<bool, RobotError> {
+    robot.check_configuration(q, "q")?;
+    let poses = robot.body_poses(q);
+    let objects = &robot.objects;
+    let boxes: Vec<_> = objects
+        .iter()
+        .map(|o| world_box(&o.mesh, &poses[o.body], 0.0))
+        .collect();
+    for &(a, b) in &robot.self_pairs {
+        if boxes_meet(&boxes[a], &boxes[b])
+            && collide(
+                &objects[a].mesh,
+                &poses[objects[a].body],
+                &objects[b].mesh,
+                &poses[objects[b].body],
+            )
+        {
+            return Ok(true);
+        }
+    }
+    for (a, o) in objects.iter().enumerate() {
+        for obs in &scene.obstacles {
+            if boxes_meet(&boxes[a], &obs.bounds)
+                && collide(&o.mesh, &poses[o.body], &obs.mesh, &obs.pose)
+            {
+                return Ok(true);
+            }
+        }
+    }
+    Ok(false)
+}
+
+/// [`in_collision`] for every configuration, in parallel; results in input order.
+///
+/// # Errors
+/// The first bad configuration, before anything is checked.
+pub fn check_configurations(
+    robot: &Robot,
+    qs: &[Vec<f64>],
+    scene: &Scene,
+) -> Result<Vec<bool>, RobotError> {
+    use rayon::prelude::*;
+    for (i, q) in qs.iter().enumerate() {
+        robot.check_configuration(q, &format!("{i}"))?;
+    }
+    qs.par_iter()
+        .map(|q| in_collision(robot, q, scene))
+        .collect()
+}
+
+/// [`time_of_contact`] for every segment `(q0, q1)`, in parallel; results in input order,
+/// identical to the single calls. Options are checked first; each segment's own error (a bad
+/// configuration, an iteration cap) is its entry.
+///
+/// # Errors
+/// Bad options.
+#[allow(clippy::type_complexity)]
+pub fn time_of_contact_batch(
+    robot: &Robot,
+    segments: &[(Vec<f64>, Vec<f64>)],
+    scene: &Scene,
+    options: &RobotOptions,
+) -> Result<Vec<Result<Option<RobotContact>, RobotError>>, RobotError> {
+    use rayon::prelude::*;
+    check_options(options)?;
+    Ok(segments
+        .par_iter()
+        .map(|(a, b)| time_of_contact(robot, a, b, scene, options))
+        .collect())
+}
+
+/// [`path_is_free`] for every segment, in parallel; results in input order.
+///
+/// # Errors
+/// Bad options.
+pub fn path_is_free_batch(
+    robot: &Robot,
+    segments: &[(Vec<f64>, Vec<f64>)],
+    scene: &Scene,
+    options: &RobotOptions,
+) -> Result<Vec<Result<bool, RobotError>>, RobotError> {
+    use rayon::prelude::*;
+    check_options(options)?;
+    Ok(segments
+        .par_iter()
+        .map(|(a, b)| path_is_free(robot, a, b, scene, options))
+        .collect())
+}
+
+/// World box of a mesh's root volume at `pose`, grown by `grow`.
+fn world_box(mesh: &TriMesh, pose: &Pose, grow: f64) -> (Vec3, Vec3) {
+    let rss = mesh.bvh().root();
+    let c = pose.transform_point(rss.center);
+    let e0 = pose.rotation * rss.axes.x_axis;
+    let e1 = pose.rotation * rss.axes.y_axis;
+    let ext = e0.abs() * rss.half_lengths[0]
+        + e1.abs() * rss.half_lengths[1]
+        + Vec3::splat(rss.radius + grow);
+    (c - ext, c + ext)
+}
+
+fn boxes_meet(a: &(Vec3, Vec3), b: &(Vec3, Vec3)) -> bool {
+    a.0.x <= b.1.x
+        && b.0.x <= a.1.x
+        && a.0.y <= b.1.y
+        && b.0.y <= a.1.y
+        && a.0.z <= b.1.z
+        && b.0.z <= a.1.z
+}
