@@ -245,6 +245,8 @@ fn advance(
         delta,
         resolution,
         max_iterations: options.max_iterations,
+        first_window: 1.0,
+        slack: (FAR_SLACK, NEAR_SLACK),
     };
     advance_paths(
         mesh1,
@@ -264,6 +266,11 @@ pub(crate) struct Span {
     pub delta: f64,
     pub resolution: f64,
     pub max_iterations: usize,
+    /// The first iteration's window as a fraction of the span (at most 1): the bounds hold over
+    /// the window, and pairs whose step exceeds it are not visited.
+    pub first_window: f64,
+    /// The step slack far from contact and near it (module docs).
+    pub slack: (f64, f64),
 }
 
 /// The advancement over `[span.start, span.end]`: where it ended when the meshes came within
@@ -296,14 +303,15 @@ pub(crate) fn advance_paths(
     let mut last_distance = f64::INFINITY;
     // Bounds are taken over a window twice the last step (the whole rest at first): tighter
     // than over all of [t, end] when the rotation axis is far from the bodies.
-    let mut window = span.end - span.start;
+    let mut window = (span.end - span.start) * span.first_window.clamp(f64::MIN_POSITIVE, 1.0);
     for iteration in 1..=span.max_iterations {
         let slack = if last_distance > far {
-            FAR_SLACK
+            span.slack.0
         } else {
-            NEAR_SLACK
+            span.slack.1
         };
-        match search.run(t, window.min(span.end - t), slack, cache.pair) {
+        let out = search.run(t, window.min(span.end - t), slack, cache.pair);
+        match out {
             StepOutcome::Within { pair } => {
                 cache.pair = Some(pair);
                 return Ok(Some(Ends {
@@ -318,9 +326,6 @@ pub(crate) fn advance_paths(
                 cache.pair = pair.or(cache.pair);
                 last_distance = distance;
                 if t + dt >= span.end {
-                    if std::env::var("TOCSIN_TRACE").is_ok() {
-                        eprintln!("  free after {iteration} iterations");
-                    }
                     return Ok(None);
                 }
                 if distance > resolution {
