@@ -1,0 +1,629 @@
+//! Robots: URDF loading and its edge cases, forward kinematics, conservative primitives, and
+//! the segment queries against their oracle (dense sampling of the joint path with the exact
+//! `collide` on every checked pair, refined by bisection).
+
+#![allow(clippy::unwrap_used, clippy::panic)]
+
+mod common;
+
+use rand::Rng;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use tocsin::robot::query::{self, Scene};
+use tocsin::robot::{primitives, RobotOptions};
+use tocsin::{collide, distance, DistanceOptions, Pose, Robot, RobotError, TriMesh, Vec3};
+
+/// A fresh folder for one test's files.
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("tocsin-robot-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn write_obj(path: &Path, mesh: &TriMesh) {
+    let mut s = String::new();
+    for v in mesh.vertices() {
+        s += &format!("v {} {} {}\n", v.x, v.y, v.z);
+    }
+    for t in mesh.triangles() {
+        s += &format!("f {} {} {}\n", t[0] + 1, t[1] + 1, t[2] + 1);
+    }
+    std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+    std::fs::write(path, s).unwrap();
+}
+
+const LINK: &str = "<inertial><mass value='1'/><inertia ixx='1' ixy='0' ixz='0' iyy='1' iyz='0' izz='1'/></inertial>";
+
+fn link(name: &str, geometry: &str) -> String {
+    if geometry.is_empty() {
+        format!("<link name='{name}'/>")
+    } else {
+        format!("<link name='{name}'>{LINK}<collision><geometry>{geometry}</geometry></collision></link>")
+    }
+}
+
+fn joint(name: &str, kind: &str, parent: &str, child: &str, xyz: &str, axis: &str) -> String {
+    format!(
+        "<joint name='{name}' type='{kind}'><parent link='{parent}'/><child link='{child}'/>\
+         <origin xyz='{xyz}' rpy='0 0 0'/><axis xyz='{axis}'/>\
+         <limit lower='-3' upper='3' effort='1' velocity='1'/></joint>"
+    )
+}
+
+fn robot_xml(body: &str) -> String {
+    format!("<?xml version='1.0'?><robot name='r'>{body}</robot>")
+}
+
+#[test]
+fn package_and_relative_paths_resolve_and_errors_say_what_was_tried() {
+    let dir = scratch("paths");
+    let cube = tocsin::mesh::box_mesh(Vec3::splat(0.1)).unwrap();
+    write_obj(&dir.join("pkgs/my_robot/meshes/a.obj"), &cube);
+    write_obj(&dir.join("urdf/meshes/b.obj"), &cube);
+    write_obj(&dir.join("urdf/c.obj"), &cube);
+    let xml = robot_xml(&format!(
+        "{}{}{}{}{}",
+        link("a", "<mesh filename='package://my_robot/meshes/a.obj'/>"),
+        link(
+            "b",
+            "<mesh filename='package://meshes/b.obj' scale='2 1 1'/>"
+        ),
+        link("c", "<mesh filename='c.obj'/>"),
+        joint("j1", "revolute", "a", "b", "0 0 1", "0 0 1"),
+        joint("j2", "revolute", "b", "c", "0 0 1", "0 1 0"),
+    ));
+    let urdf = dir.join("urdf/robot.urdf");
+    std::fs::write(&urdf, &xml).unwrap();
+    let pkgs = vec![dir.join("pkgs")];
+    let robot = Robot::from_urdf_file(&urdf, &pkgs).unwrap();
+    assert_eq!(robot.objects().len(), 3);
+    // The scale doubles b along x.
+    let b = &robot.objects()[1].mesh;
+    let xs: Vec<f64> = b.vertices().iter().map(|v| v.x).collect();
+    assert_eq!(xs.iter().cloned().fold(f64::MIN, f64::max), 0.2);
+    // Without the package folder, a's mesh is missing and the error lists the places tried.
+    let err = Robot::from_urdf_file(&urdf, &[]).unwrap_err();
+    match &err {
+        RobotError::MissingMesh { link, tried, .. } => {
+            assert_eq!(link, "a");
+            assert!(tried.contains("my_robot/meshes/a.obj"), "{tried}");
+        }
+        other => panic!("expected a missing mesh, got {other}"),
+    }
+    assert!(err.to_string().contains("not found"));
+}
+
+#[test]
+fn bad_models_are_refused_with_clear_errors() {
+    let bx = "<box size='0.1 0.1 0.1'/>";
+    let cases = [
+        (
+            format!(
+                "{}{}{}",
+                link("a", bx),
+                link("b", bx),
+                joint("j", "floating", "a", "b", "0 0 0", "1 0 0")
+            ),
+            "not supported",
+        ),
+        (
+            format!(
+                "{}{}{}{}",
+                link("a", bx),
+                link("b", bx),
+                joint("j1", "revolute", "a", "b", "0 0 0", "1 0 0"),
+                joint("j2", "revolute", "b", "a", "0 0 0", "1 0 0")
+            ),
+            "cycle",
+        ),
+        (format!("{}{}", link("a", bx), link("b", bx)), "root links"),
+        (
+            format!(
+                "{}{}{}",
+                link("a", bx),
+                link("b", bx),
+                joint("j", "revolute", "a", "b", "0 0 0", "0 0 0")
+            ),
+            "no direction",
+        ),
+        (
+            format!(
+                "{}{}",
+                link("a", bx),
+                joint("j", "revolute", "a", "zz", "0 0 0", "1 0 0")
+            ),
+            "unknown link",
+        ),
+        (
+            link("a", "<mesh filename='/nonexistent/x.dae'/>"),
+            "not found",
+        ),
+        (link("a", "<cylinder radius='-1' length='1'/>"), "positive"),
+        ("<robot name='r'><link name='a'>".to_string(), ""),
+    ];
+    for (body, needle) in cases {
+        let xml = if body.starts_with("<robot") {
+            body.clone()
+        } else {
+            robot_xml(&body)
+        };
+        let err = Robot::from_urdf_str(&xml, None, &[]).unwrap_err();
+        assert!(
+            err.to_string().contains(needle),
+            "{err} should mention {needle:?}"
+        );
+    }
+    // A COLLADA file that exists is refused by name.
+    let dir = scratch("dae");
+    std::fs::write(dir.join("m.dae"), "<COLLADA/>").unwrap();
+    let xml = robot_xml(&link("a", "<mesh filename='m.dae'/>"));
+    let err = Robot::from_urdf_str(&xml, Some(&dir), &[]).unwrap_err();
+    assert!(err.to_string().contains("COLLADA"), "{err}");
+}
+
+#[test]
+fn fixed_joints_merge_mimics_follow_and_kinematics_match_by_hand() {
+    let bx = "<box size='0.1 0.1 0.1'/>";
+    let xml = robot_xml(&format!(
+        "{}{}{}{}{}{}{}{}<joint name='m' type='prismatic'><parent link='b'/><child link='d'/>\
+         <origin xyz='0 0 0'/><axis xyz='0 0 1'/><limit lower='0' upper='1' effort='1' velocity='1'/>\
+         <mimic joint='j2' multiplier='2' offset='0.5'/></joint>",
+        link("a", bx),
+        link("b", bx),
+        link("c", bx),
+        link("d", bx),
+        link("e", ""),
+        joint("j1", "revolute", "a", "b", "1 0 0", "0 0 1"),
+        joint("fixed", "fixed", "b", "e", "0 2 0", "1 0 0"),
+        joint("j2", "prismatic", "e", "c", "0 0 0", "1 0 0"),
+    ));
+    let robot = Robot::from_urdf_str(&xml, None, &[]).unwrap();
+    assert_eq!(robot.dof(), 2);
+    assert_eq!(robot.joint_names(), ["j1", "j2"]);
+    assert_eq!(robot.bodies().len(), 4, "e merges into b");
+    let q = [std::f64::consts::FRAC_PI_2, 0.3];
+    let poses = robot.link_poses(&q).unwrap();
+    let names = robot.link_names();
+    let at = |n: &str| poses[names.iter().position(|x| *x == n).unwrap()].translation;
+    // b at (1, 0, 0) turned 90 degrees about z; e 2 along b's y, so at (1 - 2, 0, 0).
+    assert!((at("b") - Vec3::new(1.0, 0.0, 0.0)).length() < 1e-12);
+    assert!((at("e") - Vec3::new(-1.0, 0.0, 0.0)).length() < 1e-12);
+    // c slides 0.3 along e's x (world y).
+    assert!((at("c") - Vec3::new(-1.0, 0.3, 0.0)).length() < 1e-12);
+    // d mimics j2: 2 * 0.3 + 0.5 along b's z.
+    assert!((at("d") - Vec3::new(1.0, 0.0, 1.1)).length() < 1e-12);
+    // Adjacent bodies are not checked; a and c are (two joints apart).
+    let pairs: Vec<(String, String)> = robot
+        .self_pairs()
+        .iter()
+        .map(|&(i, j)| {
+            (
+                robot.objects()[i].name.clone(),
+                robot.objects()[j].name.clone(),
+            )
+        })
+        .collect();
+    assert!(pairs.contains(&("a".into(), "c".into())));
+    assert!(!pairs.contains(&("a".into(), "b".into())));
+    // Bad configurations.
+    assert!(matches!(
+        robot.link_poses(&[0.0]),
+        Err(RobotError::Configuration { .. })
+    ));
+    assert!(matches!(
+        robot.link_poses(&[0.0, f64::NAN]),
+        Err(RobotError::Configuration { .. })
+    ));
+}
+
+#[test]
+fn srdf_user_pairs_and_attachments_change_the_checked_pairs() {
+    let bx = "<box size='0.1 0.1 0.1'/>";
+    let xml = robot_xml(&format!(
+        "{}{}{}{}{}",
+        link("a", bx),
+        link("b", bx),
+        link("c", bx),
+        joint("j1", "revolute", "a", "b", "0 0 1", "0 0 1"),
+        joint("j2", "revolute", "b", "c", "0 0 1", "0 0 1"),
+    ));
+    let mut robot = Robot::from_urdf_str(&xml, None, &[]).unwrap();
+    assert_eq!(robot.self_pairs().len(), 1); // a-c
+    let n = robot
+        .apply_srdf_str(
+            "<robot name='r'><disable_collisions link1='a' link2='c' reason='Never'/></robot>",
+        )
+        .unwrap();
+    assert_eq!(n, 1);
+    assert!(robot.self_pairs().is_empty());
+    assert!(robot
+        .apply_srdf_str("<robot><disable_collisions link1='a' link2='zz'/></robot>")
+        .is_err());
+    assert!(robot.apply_srdf_str("<robot").is_err());
+    let part = tocsin::mesh::box_mesh(Vec3::splat(0.02)).unwrap();
+    robot
+        .attach(
+            "part",
+            &part,
+            "c",
+            &Pose::from_translation(Vec3::new(0.0, 0.0, 0.1)),
+            &[],
+        )
+        .unwrap();
+    // The part may touch c, but not a (two joints away).
+    let names: Vec<(String, String)> = robot
+        .self_pairs()
+        .iter()
+        .map(|&(i, j)| {
+            (
+                robot.objects()[i].name.clone(),
+                robot.objects()[j].name.clone(),
+            )
+        })
+        .collect();
+    assert_eq!(names, vec![("a".to_string(), "part".to_string())]);
+    robot.allow_collision("part", "a").unwrap();
+    assert!(robot.self_pairs().is_empty());
+    assert!(robot
+        .attach("part", &part, "c", &Pose::IDENTITY, &[])
+        .is_err());
+    robot.detach("part").unwrap();
+    assert_eq!(robot.objects().len(), 3);
+    assert!(robot.detach("part").is_err());
+}
+
+/// Every point of the true primitive lies inside its tessellation (the mesh is convex: inside
+/// every face plane), and the slack is what the docs say.
+#[test]
+fn primitives_contain_the_true_shapes() {
+    let mut rng = common::rng(5);
+    for (geometry, kind) in [
+        ("<cylinder radius='0.3' length='1.2'/>", 0),
+        ("<sphere radius='0.4'/>", 1),
+        ("<capsule radius='0.2' length='0.6'/>", 2),
+    ] {
+        let robot = Robot::from_urdf_str(&robot_xml(&link("a", geometry)), None, &[]).unwrap();
+        let mesh = &robot.objects()[0].mesh;
+        let planes: Vec<(Vec3, f64)> = mesh
+            .triangles()
+            .iter()
+            .filter_map(|t| {
+                let [a, b, c] = t.map(|i| mesh.vertices()[i as usize]);
+                let m = (b - a).cross(c - a).try_normalize()?;
+                let m = if m.dot(a + b + c) < 0.0 { -m } else { m };
+                Some((m, m.dot(a)))
+            })
+            .collect();
+        let mut farthest = 0.0_f64;
+        for _ in 0..20_000 {
+            let u = common::random_unit(&mut rng);
+            let p = match kind {
+                0 => {
+                    let (r, h) = (0.3, 0.6);
+                    let along = rng.random_range(-h..h);
+                    let dir = Vec3::new(u.x, u.y, 0.0).normalize_or(Vec3::X);
+                    if rng.random_bool(0.2) {
+                        // a point of an end disc
+                        dir * r * rng.random_range(0.0_f64..1.0).sqrt()
+                            + Vec3::Z * if along > 0.0 { h } else { -h }
+                    } else {
+                        dir * r + Vec3::Z * along
+                    }
+                }
+                1 => u * 0.4,
+                _ => {
+                    let c = Vec3::Z * rng.random_range(-0.3..0.3);
+                    let c = if u.z > 0.0 {
+                        c.max(Vec3::ZERO)
+                    } else {
+                        c.min(Vec3::ZERO)
+                    };
+                    Vec3::new(0.0, 0.0, c.z) + u * 0.2
+                }
+            };
+            for (m, d) in &planes {
+                assert!(
+                    m.dot(p) <= d + 1e-12,
+                    "a point of the true shape {kind} lies outside"
+                );
+            }
+            farthest = farthest.max(p.length());
+        }
+        assert!(farthest > 0.0);
+        // Slack: no vertex reaches farther than the documented fraction beyond the shape.
+        let (radius, half) = [(0.3, 0.6), (0.4, 0.0), (0.2, 0.3)][kind];
+        let slack = primitives::primitive_slack(kind != 0);
+        assert!(
+            slack < if kind == 0 { 0.005 } else { 0.021 },
+            "slack {slack}"
+        );
+        for v in mesh.vertices() {
+            let axial = (v.z.abs() - half).max(0.0);
+            let radial = (v.x * v.x + v.y * v.y).sqrt();
+            let beyond = if kind == 0 {
+                radial - radius
+            } else {
+                (radial * radial + axial * axial).sqrt() - radius
+            };
+            assert!(
+                beyond <= radius * slack + 1e-12,
+                "kind {kind}: vertex {beyond} beyond"
+            );
+        }
+    }
+}
+
+/// A random serial chain of 2 to 8 links: soups (with degenerate and duplicated triangles),
+/// boxes and cylinders; revolute and prismatic joints with random axes.
+fn random_chain(rng: &mut impl Rng, dir: &Path, links: usize) -> Robot {
+    let mut body = String::new();
+    for i in 0..links {
+        let geometry = match i % 3 {
+            0 => {
+                let soup = common::random_soup(rng, 12, 0.12);
+                let file = dir.join(format!("l{i}.obj"));
+                write_obj(&file, &soup);
+                format!("<mesh filename='{}'/>", file.display())
+            }
+            1 => "<box size='0.08 0.08 0.4'/>".to_string(),
+            _ => "<cylinder radius='0.05' length='0.3'/>".to_string(),
+        };
+        body += &format!(
+            "<link name='l{i}'>{LINK}<collision><origin xyz='0 0 0.15' rpy='0.1 0 0'/>\
+             <geometry>{geometry}</geometry></collision></link>"
+        );
+        if i > 0 {
+            let a = common::random_unit(rng);
+            let kind = if rng.random_bool(0.25) {
+                "prismatic"
+            } else {
+                "revolute"
+            };
+            body += &joint(
+                &format!("j{i}"),
+                kind,
+                &format!("l{}", i - 1),
+                &format!("l{i}"),
+                &format!("0 {} 0.3", rng.random_range(-0.1..0.1)),
+                &format!("{} {} {}", a.x, a.y, a.z),
+            );
+        }
+    }
+    Robot::from_urdf_str(&robot_xml(&body), None, &[]).unwrap()
+}
+
+/// Exact collision of the robot at `q` (every checked pair, collide without culling).
+fn oracle_collides(robot: &Robot, q: &[f64], scene: &Scene) -> bool {
+    let poses = robot.object_poses(q).unwrap();
+    let o = robot.objects();
+    robot
+        .self_pairs()
+        .iter()
+        .any(|&(i, j)| collide(&o[i].mesh, &poses[i], &o[j].mesh, &poses[j]))
+        || o.iter().enumerate().any(|(i, a)| {
+            scene
+                .obstacles()
+                .iter()
+                .any(|b| collide(&a.mesh, &poses[i], &b.mesh, &b.pose))
+        })
+}
+
+/// Smallest distance over every checked pair at `q`.
+fn oracle_distance(robot: &Robot, q: &[f64], scene: &Scene) -> f64 {
+    let poses = robot.object_poses(q).unwrap();
+    let o = robot.objects();
+    let opts = DistanceOptions::default();
+    let mut d = f64::INFINITY;
+    for &(i, j) in robot.self_pairs() {
+        d = d.min(
+            distance(&o[i].mesh, &poses[i], &o[j].mesh, &poses[j], &opts)
+                .unwrap()
+                .distance,
+        );
+    }
+    for (i, a) in o.iter().enumerate() {
+        for b in scene.obstacles() {
+            d = d.min(
+                distance(&a.mesh, &poses[i], &b.mesh, &b.pose, &opts)
+                    .unwrap()
+                    .distance,
+            );
+        }
+    }
+    d
+}
+
+fn lerp(q0: &[f64], q1: &[f64], t: f64) -> Vec<f64> {
+    q0.iter().zip(q1).map(|(a, b)| a + t * (b - a)).collect()
+}
+
+/// First sampled collision time (2,000 samples, then bisection to 1e-9), if any.
+fn oracle_first_collision(robot: &Robot, q0: &[f64], q1: &[f64], scene: &Scene) -> Option<f64> {
+    let n = 2000;
+    let mut prev = 0.0;
+    for k in 0..=n {
+        let t = k as f64 / n as f64;
+        if oracle_collides(robot, &lerp(q0, q1, t), scene) {
+            if k == 0 {
+                return Some(0.0);
+            }
+            let (mut lo, mut hi) = (prev, t);
+            while hi - lo > 1e-9 {
+                let mid = 0.5 * (lo + hi);
+                if oracle_collides(robot, &lerp(q0, q1, mid), scene) {
+                    hi = mid;
+                } else {
+                    lo = mid;
+                }
+            }
+            return Some(hi);
+        }
+        prev = t;
+    }
+    None
+}
+
+#[test]
+fn random_chains_against_dense_sampling() {
+    let dir = scratch("chains");
+    let mut rng = common::rng(31);
+    let (mut contacts, mut free, mut self_hits) = (0, 0, 0);
+    for case in 0..150 {
+        let links = 2 + case % 7;
+        let robot = random_chain(&mut rng, &dir, links);
+        let mut scene = Scene::new();
+        for k in 0..3 {
+            let mesh = if k < 2 {
+                tocsin::mesh::box_mesh(Vec3::new(0.02, 0.4, 0.4)).unwrap()
+            } else {
+                common::random_soup(&mut rng, 20, 0.1)
+            };
+            scene.add(
+                &format!("o{k}"),
+                Arc::new(mesh),
+                common::random_pose(&mut rng, 0.6),
+            );
+        }
+        let q0: Vec<f64> = (0..robot.dof())
+            .map(|_| rng.random_range(-1.0..1.0))
+            .collect();
+        if oracle_collides(&robot, &q0, &scene) {
+            continue;
+        }
+        let q1: Vec<f64> = q0.iter().map(|q| q + rng.random_range(-2.0..2.0)).collect();
+        let opts = RobotOptions::default();
+        let tol = query::robot_tolerance(&robot, &opts);
+        let got = query::time_of_contact(&robot, &q0, &q1, &scene, &opts).unwrap();
+        let is_free = query::path_is_free(&robot, &q0, &q1, &scene, &opts).unwrap();
+        assert_eq!(
+            is_free,
+            got.is_none(),
+            "case {case}: path_is_free disagrees"
+        );
+        let first = oracle_first_collision(&robot, &q0, &q1, &scene);
+        match (&got, first) {
+            (None, Some(t)) => panic!("case {case}: missed a collision at t = {t}"),
+            (Some(c), first) => {
+                if let Some(t) = first {
+                    assert!(c.time <= t + 1e-12, "case {case}: late ({} > {t})", c.time);
+                }
+                let d = oracle_distance(&robot, &lerp(&q0, &q1, c.time), &scene);
+                assert!(
+                    d <= tol * (1.0 + 1e-9),
+                    "case {case}: false positive, distance {d} > {tol}"
+                );
+                assert!(
+                    (c.distance - d).abs() <= 1e-9,
+                    "case {case}: reported distance {} vs {d}",
+                    c.distance
+                );
+                if c.self_collision {
+                    self_hits += 1;
+                }
+                contacts += 1;
+            }
+            (None, None) => free += 1,
+        }
+    }
+    assert!(
+        contacts >= 20 && free >= 20,
+        "{contacts} contacts, {free} free: the set should mix both"
+    );
+    assert!(self_hits >= 1, "no self-collision among the contacts");
+}
+
+/// A rod turning about z sweeps its tip past a box: free at 1% clearance, a contact at -1%,
+/// and touching at the start is reported at t = 0.
+#[test]
+fn near_misses_grazing_and_start_in_contact() {
+    let xml = robot_xml(&format!(
+        "{}{}{}",
+        link("base", ""),
+        "<link name='rod'><collision><origin xyz='0.5 0 0'/><geometry><box size='1 0.02 0.02'/></geometry></collision></link>",
+        joint("j", "continuous", "base", "rod", "0 0 0", "0 0 1"),
+    ));
+    let robot = Robot::from_urdf_str(&xml, None, &[]).unwrap();
+    let opts = RobotOptions::default();
+    for (clearance, expect_free) in [(0.01, true), (-0.01, false), (0.003, true)] {
+        // The tip's corner reaches sqrt(1 + 0.01^2) from the axis: a box face at that distance
+        // plus the clearance, facing the tip when the rod points along x.
+        let reach = (1.0_f64 + 0.01 * 0.01).sqrt();
+        let mut scene = Scene::new();
+        let wall = tocsin::mesh::box_mesh(Vec3::new(0.05, 0.05, 0.05)).unwrap();
+        scene.add(
+            "wall",
+            Arc::new(wall),
+            Pose::from_translation(Vec3::new(reach + clearance + 0.05, 0.0, 0.0)),
+        );
+        let got = query::time_of_contact(&robot, &[-1.0], &[1.0], &scene, &opts).unwrap();
+        assert_eq!(got.is_none(), expect_free, "clearance {clearance}");
+        if let Some(c) = got {
+            assert!(
+                c.time < 0.5,
+                "contact before the rod points at the wall: {}",
+                c.time
+            );
+            assert_eq!(c.object2, "wall");
+            // The rod turns towards +y: its side meets the wall's corner, so the normal from rod
+            // to wall points along +y.
+            assert!(c.normal.y > 0.9, "normal {:?} from rod to wall", c.normal);
+        }
+    }
+    let mut scene = Scene::new();
+    let wall = tocsin::mesh::box_mesh(Vec3::splat(0.05)).unwrap();
+    scene.add(
+        "wall",
+        Arc::new(wall),
+        Pose::from_translation(Vec3::new(0.5, 0.0, 0.0)),
+    );
+    let c = query::time_of_contact(&robot, &[0.0], &[1.0], &scene, &opts)
+        .unwrap()
+        .unwrap();
+    assert_eq!(c.time, 0.0);
+    assert_eq!(c.status, tocsin::ContactStatus::StartedInContact);
+    assert!(!query::path_is_free(&robot, &[0.0], &[1.0], &scene, &opts).unwrap());
+    assert!(query::in_collision(&robot, &[0.0], &scene).unwrap());
+}
+
+#[test]
+fn batches_match_single_calls_and_bad_input_is_refused() {
+    let dir = scratch("batch");
+    let mut rng = common::rng(8);
+    let robot = random_chain(&mut rng, &dir, 5);
+    let mut scene = Scene::new();
+    scene.add(
+        "o",
+        Arc::new(tocsin::mesh::box_mesh(Vec3::splat(0.2)).unwrap()),
+        common::random_pose(&mut rng, 0.5),
+    );
+    let segments: Vec<(Vec<f64>, Vec<f64>)> = (0..40)
+        .map(|_| {
+            let q0: Vec<f64> = (0..robot.dof())
+                .map(|_| rng.random_range(-1.0..1.0))
+                .collect();
+            let q1 = q0.iter().map(|q| q + rng.random_range(-0.5..0.5)).collect();
+            (q0, q1)
+        })
+        .collect();
+    let opts = RobotOptions::default();
+    let batch = query::time_of_contact_batch(&robot, &segments, &scene, &opts).unwrap();
+    let free = query::path_is_free_batch(&robot, &segments, &scene, &opts).unwrap();
+    for ((s, b), f) in segments.iter().zip(&batch).zip(&free) {
+        let single = query::time_of_contact(&robot, &s.0, &s.1, &scene, &opts).unwrap();
+        assert_eq!(b.as_ref().unwrap(), &single);
+        assert_eq!(*f.as_ref().unwrap(), single.is_none());
+    }
+    let qs: Vec<Vec<f64>> = segments.iter().map(|s| s.0.clone()).collect();
+    let checks = query::check_configurations(&robot, &qs, &scene).unwrap();
+    for (q, c) in qs.iter().zip(&checks) {
+        assert_eq!(*c, oracle_collides(&robot, q, &scene));
+    }
+    let bad = RobotOptions {
+        tolerance: Some(-1.0),
+        ..opts
+    };
+    assert!(query::time_of_contact(&robot, &qs[0], &qs[1], &scene, &bad).is_err());
+    assert!(query::time_of_contact(&robot, &qs[0][..1], &qs[1], &scene, &opts).is_err());
+    assert!(query::check_configurations(&robot, &[vec![f64::NAN; robot.dof()]], &scene).is_err());
+}
