@@ -2,7 +2,7 @@
 //! the package's own exception classes (defined in `tocsin/_errors.py`). No geometry here.
 //!
 //! One file per concern: `convert` (arrays and poses), `errors`, `pool` (the fork-safe thread
-//! pool), `mesh`, `queries` (static queries), `motion`, `contact` (time of contact), `batch`.
+//! pool), `mesh`, `queries` (static queries), `motion`, `contact` (time of contact), `batch`, `robot` (robots, scenes, segment checks).
 
 mod batch;
 mod contact;
@@ -12,6 +12,7 @@ mod mesh;
 mod motion;
 mod pool;
 mod queries;
+mod robot;
 
 use pyo3::prelude::*;
 
@@ -33,5 +34,8 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(batch::_distance_batch, m)?)?;
     m.add_function(wrap_pyfunction!(batch::_collide_batch, m)?)?;
     m.add_function(wrap_pyfunction!(batch::_time_of_contact_batch, m)?)?;
+    m.add_class::<robot::Robot>()?;
+    m.add_class::<robot::Scene>()?;
+    m.add_class::<robot::RobotContact>()?;
     Ok(())
 }

@@ -17,17 +17,21 @@ from ._core import (
     DistanceResult,
     Mesh,
     Motion,
+    Robot,
+    RobotContact,
+    Scene,
     collide,
     collide_pairs,
     distance,
     motion_is_free,
     orthonormalize,
-    time_of_contact,
     within_distance,
 )
+from ._core import time_of_contact as _rigid_time_of_contact
 from ._batch import ContactBatch, DistanceBatch, collide_batch, distance_batch, time_of_contact_batch
 from ._plot import plot_contact
 from ._errors import (
+    ConfigurationError,
     IterationLimitError,
     MeshError,
     MeshFileError,
@@ -35,11 +39,53 @@ from ._errors import (
     OptionsError,
     OutOfMemoryError,
     PoseError,
+    RobotError,
+    RobotFileError,
     TocsinError,
 )
 
+
+
+def time_of_contact(*args, **kwargs):
+    """First time of contact, for two moving meshes or for a robot along a joint-space segment.
+
+    ``time_of_contact(robot, q0, q1, scene=None, tolerance=None, max_iterations=None)``: the
+    robot moving along q(t) = q0 + t (q1 - q0) against itself and the scene's obstacles; a
+    RobotContact or None (``Robot.time_of_contact``).
+
+    ``time_of_contact(mesh1, motion1, mesh2, motion2, tolerance=None, max_iterations=None)``:
+    two rigid bodies over t in [0, 1]:
+    """
+    if args and isinstance(args[0], Robot):
+        return args[0].time_of_contact(*args[1:], **kwargs)
+    return _rigid_time_of_contact(*args, **kwargs)
+
+
+time_of_contact.__doc__ = (time_of_contact.__doc__ or "") + "\n" + (_rigid_time_of_contact.__doc__ or "")
+
+
+def path_is_free(robot, q0, q1, scene=None, tolerance=None, max_iterations=None):
+    """Whether the robot's joint-space segment q0 -> q1 is free of contact with itself and the
+    scene (exact; ``Robot.path_is_free``)."""
+    return robot.path_is_free(q0, q1, scene, tolerance=tolerance, max_iterations=max_iterations)
+
+
+def check_configurations(robot, qs, scene=None):
+    """Exact collision of the robot at every row of ``qs`` (N, dof): a bool array
+    (``Robot.check_configurations``)."""
+    return robot.check_configurations(qs, scene)
+
+
 __all__ = [
     "__version__",
+    "ConfigurationError",
+    "Robot",
+    "RobotContact",
+    "RobotError",
+    "RobotFileError",
+    "Scene",
+    "check_configurations",
+    "path_is_free",
     "ContactBatch",
     "ContactResult",
     "DistanceBatch",

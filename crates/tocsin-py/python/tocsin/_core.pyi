@@ -15,6 +15,9 @@ __all__ = [
     "DistanceResult",
     "Mesh",
     "Motion",
+    "Robot",
+    "RobotContact",
+    "Scene",
     "_collide_batch",
     "_distance_batch",
     "_time_of_contact_batch",
@@ -255,3 +258,161 @@ def _time_of_contact_batch(
     npt.NDArray[np.int64],
     npt.NDArray[np.float64],
 ]: ...
+
+
+_Path = Union[str, "PathLike[str]"]
+
+@final
+class Robot:
+    """An articulated robot from URDF: links merged over fixed joints, revolute, continuous,
+    prismatic and mimic joints, each link's collision geometry as one polygon soup (primitives
+    as tessellations that contain the true shape), and the link pairs checked for
+    self-collision (all but adjacent bodies, SRDF-disabled pairs, allowed pairs, attachments).
+
+    Configurations are float arrays of shape (dof,) in the order of `joint_names`.
+    """
+
+    @staticmethod
+    def from_urdf(path: _Path, package_dirs: Sequence[_Path] = ..., srdf: Optional[_Path] = None) -> Robot:
+        """Loads a URDF file, resolving package:// and relative mesh paths (see the docs)."""
+    @staticmethod
+    def from_urdf_string(xml: str, base_dir: Optional[_Path] = None, package_dirs: Sequence[_Path] = ...) -> Robot:
+        """A robot from URDF text; relative mesh paths resolve against base_dir."""
+    def apply_srdf(self, path: _Path) -> int:
+        """Allows the SRDF's <disable_collisions> pairs; returns how many pairs it removed."""
+    def apply_srdf_string(self, xml: str) -> int:
+        """As apply_srdf, from SRDF text."""
+    def allow_collision(self, link1: str, link2: str) -> None:
+        """Allows two links (or attached objects) to touch."""
+    def attach(
+        self,
+        name: str,
+        mesh: Mesh,
+        link: str,
+        pose: Optional[ArrayLike] = None,
+        touch_links: Sequence[str] = ...,
+    ) -> None:
+        """Attaches a mesh to a link (placed by pose in the link's frame)."""
+    def detach(self, name: str) -> None:
+        """Removes an attached object."""
+    @property
+    def name(self) -> str:
+        """The robot's name."""
+    @property
+    def dof(self) -> int:
+        """Number of configuration entries."""
+    @property
+    def joint_names(self) -> list[str]:
+        """Names of the configuration entries, in order."""
+    @property
+    def joint_limits(self) -> npt.NDArray[np.float64]:
+        """Joint limits, shape (dof, 2)."""
+    @property
+    def link_names(self) -> list[str]:
+        """Every URDF link's name, in the order of link_poses."""
+    @property
+    def object_names(self) -> list[str]:
+        """Names of the collision objects."""
+    @property
+    def self_pairs(self) -> list[tuple[str, str]]:
+        """Object name pairs checked for self-collision."""
+    @property
+    def base(self) -> npt.NDArray[np.float64]:
+        """The root link's world pose (4x4)."""
+    @base.setter
+    def base(self, pose: ArrayLike) -> None: ...
+    def object_mesh(self, name: str) -> Mesh:
+        """The collision mesh of an object (vertices in its body's frame)."""
+    def link_poses(self, q: ArrayLike) -> npt.NDArray[np.float64]:
+        """World pose of every URDF link at q, shape (L, 4, 4)."""
+    def object_poses(self, q: ArrayLike) -> npt.NDArray[np.float64]:
+        """World pose of every collision object at q, shape (K, 4, 4)."""
+    def within_limits(self, q: ArrayLike, tolerance: float = 0.0) -> bool:
+        """Whether q lies within the joint limits."""
+    def time_of_contact(
+        self,
+        q0: ArrayLike,
+        q1: ArrayLike,
+        scene: Optional[Scene] = None,
+        tolerance: Optional[float] = None,
+        max_iterations: Optional[int] = None,
+    ) -> Optional[RobotContact]:
+        """First time of contact along q0 -> q1 with itself or the scene (exact)."""
+    def path_is_free(
+        self,
+        q0: ArrayLike,
+        q1: ArrayLike,
+        scene: Optional[Scene] = None,
+        tolerance: Optional[float] = None,
+        max_iterations: Optional[int] = None,
+    ) -> bool:
+        """Whether the segment q0 -> q1 is free (exact; stops as soon as it is known)."""
+    def in_collision(self, q: ArrayLike, scene: Optional[Scene] = None) -> bool:
+        """Whether the robot at q collides with itself or the scene."""
+    def check_configurations(self, qs: ArrayLike, scene: Optional[Scene] = None) -> npt.NDArray[np.bool_]:
+        """in_collision for every row of qs (N, dof), on all cores."""
+    def paths_are_free(
+        self,
+        q0s: ArrayLike,
+        q1s: ArrayLike,
+        scene: Optional[Scene] = None,
+        tolerance: Optional[float] = None,
+        max_iterations: Optional[int] = None,
+    ) -> npt.NDArray[np.bool_]:
+        """path_is_free for every segment, on all cores."""
+    def time_of_contact_batch(
+        self,
+        q0s: ArrayLike,
+        q1s: ArrayLike,
+        scene: Optional[Scene] = None,
+        tolerance: Optional[float] = None,
+        max_iterations: Optional[int] = None,
+    ) -> list[Optional[RobotContact]]:
+        """time_of_contact for every segment, on all cores."""
+
+@final
+class Scene:
+    """Static obstacles for the robot queries: named meshes at world poses."""
+
+    def __new__(cls) -> Scene: ...
+    def add(self, name: str, mesh: Mesh, pose: Optional[ArrayLike] = None) -> None:
+        """Adds an obstacle placed by pose (4x4, body to world)."""
+    @property
+    def names(self) -> list[str]:
+        """The obstacles' names, in the order added."""
+    def __len__(self) -> int: ...
+
+@final
+class RobotContact:
+    """When and where the robot first comes within the tolerance along a segment."""
+
+    @property
+    def time(self) -> float:
+        """Time in [0, 1] along the segment, no later than the first collision."""
+    @property
+    def object1(self) -> str:
+        """The robot object of the pair."""
+    @property
+    def object2(self) -> str:
+        """The other object: a robot link or an obstacle."""
+    @property
+    def self_collision(self) -> bool:
+        """Whether object2 is part of the robot."""
+    @property
+    def point1(self) -> npt.NDArray[np.float64]:
+        """Closest point on object1, world frame, shape (3,)."""
+    @property
+    def point2(self) -> npt.NDArray[np.float64]:
+        """Closest point on object2, world frame, shape (3,)."""
+    @property
+    def normal(self) -> npt.NDArray[np.float64]:
+        """Unit normal from object1 to object2, world frame, shape (3,)."""
+    @property
+    def distance(self) -> float:
+        """Distance at time (at most the tolerance)."""
+    @property
+    def iterations(self) -> int:
+        """Advancement iterations of the pair that made the contact."""
+    @property
+    def status(self) -> Literal["converged", "started_in_contact"]:
+        """'converged' or 'started_in_contact'."""

@@ -43,3 +43,18 @@ class IterationLimitError(TocsinError, RuntimeError):
 
 class OutOfMemoryError(TocsinError, MemoryError):
     """Memory for a mesh and its hierarchy could not be reserved (the process is left intact)."""
+
+
+class RobotError(TocsinError, ValueError):
+    """A robot model is invalid or unsupported (an unknown joint type, a cycle, several roots,
+    a joint axis of zero length, a bad mimic, a COLLADA mesh, an invalid collision mesh), or a
+    name (link, object) is unknown."""
+
+
+class RobotFileError(RobotError, OSError):
+    """A URDF or SRDF file could not be read or parsed, or a collision mesh it names was not
+    found (the message lists every path tried)."""
+
+
+class ConfigurationError(TocsinError, ValueError):
+    """A joint configuration has the wrong length or shape, or a NaN or infinite value."""

@@ -1,0 +1,615 @@
+//! Robots: `Robot` (URDF, SRDF, attachments, forward kinematics), `Scene` (static obstacles),
+//! `RobotContact`, and the segment queries (time of contact, path checks, configuration checks,
+//! batches). Every query releases the GIL; batches run in the binding's fork-safe pool.
+
+use crate::contact::status_name;
+use crate::convert::{as_array, pose_from, pose_to_numpy, vec3};
+use crate::errors::{contact_error, count, error, mesh_error};
+use crate::mesh::Mesh;
+use crate::pool;
+use numpy::{PyArray1, PyArray3, PyArrayMethods};
+use pyo3::prelude::*;
+use std::path::PathBuf;
+use std::sync::Arc;
+use tocsin::robot::query as rq;
+use tocsin::robot::{RobotOptions, Scene as CoreScene};
+use tocsin::{RobotError, Vec3};
+
+pub(crate) fn robot_error(py: Python<'_>, e: RobotError) -> PyErr {
+    match e {
+        RobotError::Contact(c) => contact_error(py, c),
+        RobotError::Mesh { link, source } => {
+            let inner = mesh_error(py, source);
+            error(py, "RobotError", format!("link {link}: {inner}"))
+        }
+        RobotError::MissingMesh { .. } | RobotError::Parse { .. } => {
+            error(py, "RobotFileError", e.to_string())
+        }
+        RobotError::Configuration { .. } => error(py, "ConfigurationError", e.to_string()),
+        other => error(py, "RobotError", other.to_string()),
+    }
+}
+
+/// An articulated robot from URDF: bodies (links merged over fixed joints), moving joints
+/// (revolute, continuous, prismatic, mimic), each link's collision geometry as one polygon soup
+/// (meshes with their scale; boxes exactly; spheres, cylinders and capsules as tessellations
+/// that contain the true shape), and the link pairs checked for self-collision (all but
+/// adjacent bodies, SRDF-disabled pairs, pairs you allow, attachments and their touch links).
+///
+/// Configurations are float arrays of shape (dof,) in the order of `joint_names` (the actuated
+/// joints as the URDF lists them, mimics excluded). Build one with Robot.from_urdf.
+#[pyclass(module = "tocsin._core")]
+pub(crate) struct Robot {
+    pub(crate) inner: Arc<tocsin::Robot>,
+}
+
+/// A configuration array of shape (dof,).
+fn config(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<f64>> {
+    let py = obj.py();
+    let arr = py
+        .import("numpy")?
+        .call_method1("asarray", (obj, "float64"))
+        .map_err(|e| error(py, "ConfigurationError", format!("{what}: {e}")))?;
+    let ndim: usize = arr.getattr("ndim")?.extract()?;
+    if ndim != 1 {
+        return Err(error(
+            py,
+            "ConfigurationError",
+            format!("{what} must have shape (dof,), got {ndim} dimensions"),
+        ));
+    }
+    arr.call_method0("tolist")?.extract()
+}
+
+/// A configuration batch of shape (N, dof).
+fn configs(obj: &Bound<'_, PyAny>, dof: usize, what: &str) -> PyResult<Vec<Vec<f64>>> {
+    let a = as_array::<f64>(obj, "float64", dof, what, "ConfigurationError")?;
+    let s = a
+        .as_slice()
+        .map_err(|e| error(obj.py(), "ConfigurationError", e.to_string()))?;
+    Ok(if dof == 0 {
+        Vec::new()
+    } else {
+        s.chunks_exact(dof).map(<[f64]>::to_vec).collect()
+    })
+}
+
+fn options(
+    py: Python<'_>,
+    tolerance: Option<f64>,
+    max_iterations: Option<&Bound<'_, PyAny>>,
+) -> PyResult<RobotOptions> {
+    Ok(RobotOptions {
+        tolerance,
+        max_iterations: match max_iterations {
+            Some(m) => count(py, m, "max_iterations", 1, "OptionsError")?,
+            None => RobotOptions::default().max_iterations,
+        },
+        ..RobotOptions::default()
+    })
+}
+
+fn scene_of(scene: Option<&Scene>) -> Arc<CoreScene> {
+    scene.map_or_else(|| Arc::new(CoreScene::new()), |s| s.inner.clone())
+}
+
+#[pymethods]
+impl Robot {
+    /// Loads a URDF file. Mesh filenames (`package://name/rest`, `file://`, relative, absolute)
+    /// are looked for in `package_dirs` (as dir/name/rest, and dir/rest when dir is named
+    /// `name`), then in the URDF's folder and its ancestors, then as rest next to the URDF
+    /// (pybullet's convention); a missing mesh raises RobotFileError listing every path tried.
+    /// `srdf`: a MoveIt SRDF file whose <disable_collisions> pairs are allowed to touch.
+    /// Raises RobotFileError (unreadable file, missing mesh), RobotError (bad model:
+    /// unsupported joint type, cycles, several roots, bad axes or mimics, COLLADA meshes).
+    #[staticmethod]
+    #[pyo3(signature = (path, package_dirs=Vec::new(), srdf=None))]
+    fn from_urdf(
+        py: Python<'_>,
+        path: PathBuf,
+        package_dirs: Vec<PathBuf>,
+        srdf: Option<PathBuf>,
+    ) -> PyResult<Self> {
+        let dirs = package_dirs;
+        let robot = py
+            .detach(|| -> Result<tocsin::Robot, RobotError> {
+                let mut r = tocsin::Robot::from_urdf_file(&path, &dirs)?;
+                if let Some(s) = &srdf {
+                    r.apply_srdf_file(s)?;
+                }
+                Ok(r)
+            })
+            .map_err(|e| robot_error(py, e))?;
+        Ok(Self {
+            inner: Arc::new(robot),
+        })
+    }
+
+    /// A robot from URDF text; relative mesh paths resolve against `base_dir` (see from_urdf).
+    #[staticmethod]
+    #[pyo3(signature = (xml, base_dir=None, package_dirs=Vec::new()))]
+    fn from_urdf_string(
+        py: Python<'_>,
+        xml: &str,
+        base_dir: Option<PathBuf>,
+        package_dirs: Vec<PathBuf>,
+    ) -> PyResult<Self> {
+        let robot = py
+            .detach(|| tocsin::Robot::from_urdf_str(xml, base_dir.as_deref(), &package_dirs))
+            .map_err(|e| robot_error(py, e))?;
+        Ok(Self {
+            inner: Arc::new(robot),
+        })
+    }
+
+    /// Allows the link pairs an SRDF file disables (<disable_collisions>); returns how many
+    /// collision-object pairs that removed from the checks.
+    fn apply_srdf(&mut self, py: Python<'_>, path: PathBuf) -> PyResult<usize> {
+        Arc::make_mut(&mut self.inner)
+            .apply_srdf_file(&path)
+            .map_err(|e| robot_error(py, e))
+    }
+
+    /// As apply_srdf, from SRDF text.
+    fn apply_srdf_string(&mut self, py: Python<'_>, xml: &str) -> PyResult<usize> {
+        Arc::make_mut(&mut self.inner)
+            .apply_srdf_str(xml)
+            .map_err(|e| robot_error(py, e))
+    }
+
+    /// Allows two links (or attached objects) to touch: their pair is not checked.
+    fn allow_collision(&mut self, py: Python<'_>, link1: &str, link2: &str) -> PyResult<()> {
+        Arc::make_mut(&mut self.inner)
+            .allow_collision(link1, link2)
+            .map_err(|e| robot_error(py, e))
+    }
+
+    /// Attaches `mesh` to `link` (a grasped part): `pose` (4x4) places the mesh in the link's
+    /// frame. The object may touch its own link's body and `touch_links`; every other robot
+    /// link and every obstacle is checked against it.
+    #[pyo3(signature = (name, mesh, link, pose=None, touch_links=Vec::new()))]
+    fn attach(
+        &mut self,
+        py: Python<'_>,
+        name: &str,
+        mesh: &Mesh,
+        link: &str,
+        pose: Option<&Bound<'_, PyAny>>,
+        touch_links: Vec<String>,
+    ) -> PyResult<()> {
+        let pose = match pose {
+            Some(p) => pose_from(p, "pose")?,
+            None => tocsin::Pose::IDENTITY,
+        };
+        let touch: Vec<&str> = touch_links.iter().map(String::as_str).collect();
+        Arc::make_mut(&mut self.inner)
+            .attach(name, &mesh.inner, link, &pose, &touch)
+            .map_err(|e| robot_error(py, e))
+    }
+
+    /// Removes an attached object.
+    fn detach(&mut self, py: Python<'_>, name: &str) -> PyResult<()> {
+        Arc::make_mut(&mut self.inner)
+            .detach(name)
+            .map_err(|e| robot_error(py, e))
+    }
+
+    /// The robot's name (from the URDF).
+    #[getter]
+    fn name(&self) -> String {
+        self.inner.name().to_string()
+    }
+
+    /// Number of configuration entries.
+    #[getter]
+    fn dof(&self) -> usize {
+        self.inner.dof()
+    }
+
+    /// Names of the configuration entries, in order.
+    #[getter]
+    fn joint_names(&self) -> Vec<String> {
+        self.inner.joint_names().to_vec()
+    }
+
+    /// Joint limits, shape (dof, 2): lower and upper (infinite for continuous joints).
+    #[getter]
+    fn joint_limits<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, numpy::PyArray2<f64>>> {
+        let flat: Vec<f64> = self
+            .inner
+            .joint_limits()
+            .iter()
+            .flat_map(|(a, b)| [*a, *b])
+            .collect();
+        PyArray1::from_vec(py, flat).reshape([self.inner.dof(), 2])
+    }
+
+    /// Every URDF link's name, in the order of link_poses.
+    #[getter]
+    fn link_names(&self) -> Vec<String> {
+        self.inner
+            .link_names()
+            .iter()
+            .map(|s| s.to_string())
+            .collect()
+    }
+
+    /// Names of the collision objects (links with geometry, attached objects).
+    #[getter]
+    fn object_names(&self) -> Vec<String> {
+        self.inner
+            .objects()
+            .iter()
+            .map(|o| o.name.clone())
+            .collect()
+    }
+
+    /// The object name pairs checked for self-collision.
+    #[getter]
+    fn self_pairs(&self) -> Vec<(String, String)> {
+        let o = self.inner.objects();
+        self.inner
+            .self_pairs()
+            .iter()
+            .map(|&(i, j)| (o[i].name.clone(), o[j].name.clone()))
+            .collect()
+    }
+
+    /// The root link's world pose (4x4); settable.
+    #[getter]
+    fn get_base<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, numpy::PyArray2<f64>>> {
+        pose_to_numpy(py, &self.inner.base())
+    }
+
+    #[setter]
+    fn set_base(&mut self, pose: &Bound<'_, PyAny>) -> PyResult<()> {
+        let p = pose_from(pose, "base")?;
+        Arc::make_mut(&mut self.inner).set_base(p);
+        Ok(())
+    }
+
+    /// The collision mesh of an object (vertices in its body's frame: the frame of the link
+    /// at the head of its merged body).
+    fn object_mesh(&self, py: Python<'_>, name: &str) -> PyResult<Mesh> {
+        self.inner
+            .objects()
+            .iter()
+            .find(|o| o.name == name)
+            .map(|o| Mesh {
+                inner: o.mesh.clone(),
+            })
+            .ok_or_else(|| error(py, "RobotError", format!("unknown object {name:?}")))
+    }
+
+    /// World pose of every URDF link at configuration q, shape (L, 4, 4), in link_names order.
+    fn link_poses<'py>(
+        &self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyArray3<f64>>> {
+        self.poses_array(py, q, false)
+    }
+
+    /// World pose of every collision object at q, shape (K, 4, 4), in object_names order.
+    fn object_poses<'py>(
+        &self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyArray3<f64>>> {
+        self.poses_array(py, q, true)
+    }
+
+    /// Whether q lies within the joint limits (inclusive, with `tolerance`).
+    #[pyo3(signature = (q, tolerance=0.0))]
+    fn within_limits(&self, q: &Bound<'_, PyAny>, tolerance: f64) -> PyResult<bool> {
+        Ok(self.inner.within_limits(&config(q, "q")?, tolerance))
+    }
+
+    /// First time of contact along the straight joint-space segment q(t) = q0 + t (q1 - q0),
+    /// t in [0, 1], of the robot with itself (pairs not allowed to touch) or with the scene's
+    /// obstacles: a RobotContact whenever some checked pair comes within tolerance / 2 (always
+    /// when one collides), no later than the first collision; None when every pair stays
+    /// farther apart than the tolerance. The tolerance defaults to 1e-3 of the smallest
+    /// bounding radius among the robot's collision objects. Exact: no sampling.
+    #[pyo3(signature = (q0, q1, scene=None, tolerance=None, max_iterations=None))]
+    fn time_of_contact(
+        &self,
+        py: Python<'_>,
+        q0: &Bound<'_, PyAny>,
+        q1: &Bound<'_, PyAny>,
+        scene: Option<&Scene>,
+        tolerance: Option<f64>,
+        max_iterations: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<Option<RobotContact>> {
+        let (a, b) = (config(q0, "q0")?, config(q1, "q1")?);
+        let opts = options(py, tolerance, max_iterations)?;
+        let (robot, scene) = (self.inner.clone(), scene_of(scene));
+        let r = py
+            .detach(|| rq::time_of_contact(&robot, &a, &b, &scene, &opts))
+            .map_err(|e| robot_error(py, e))?;
+        Ok(r.map(RobotContact::from_core))
+    }
+
+    /// Whether the segment q0 -> q1 is free (the question OMPL's checkMotion asks): True when
+    /// every checked pair stays farther apart than the tolerance, False as soon as one is
+    /// known to come within tolerance / 2 (it stops there); the same answer as
+    /// `time_of_contact(...) is None`. For the last free time, use time_of_contact.
+    #[pyo3(signature = (q0, q1, scene=None, tolerance=None, max_iterations=None))]
+    fn path_is_free(
+        &self,
+        py: Python<'_>,
+        q0: &Bound<'_, PyAny>,
+        q1: &Bound<'_, PyAny>,
+        scene: Option<&Scene>,
+        tolerance: Option<f64>,
+        max_iterations: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<bool> {
+        let (a, b) = (config(q0, "q0")?, config(q1, "q1")?);
+        let opts = options(py, tolerance, max_iterations)?;
+        let (robot, scene) = (self.inner.clone(), scene_of(scene));
+        py.detach(|| rq::path_is_free(&robot, &a, &b, &scene, &opts))
+            .map_err(|e| robot_error(py, e))
+    }
+
+    /// Whether the robot at q collides with itself or the scene (exact; touching counts).
+    #[pyo3(signature = (q, scene=None))]
+    fn in_collision(
+        &self,
+        py: Python<'_>,
+        q: &Bound<'_, PyAny>,
+        scene: Option<&Scene>,
+    ) -> PyResult<bool> {
+        let q = config(q, "q")?;
+        let (robot, scene) = (self.inner.clone(), scene_of(scene));
+        py.detach(|| rq::in_collision(&robot, &q, &scene))
+            .map_err(|e| robot_error(py, e))
+    }
+
+    /// in_collision for every row of Q (N, dof), on all cores; a bool array of shape (N,).
+    #[pyo3(signature = (qs, scene=None))]
+    fn check_configurations<'py>(
+        &self,
+        py: Python<'py>,
+        qs: &Bound<'py, PyAny>,
+        scene: Option<&Scene>,
+    ) -> PyResult<Bound<'py, PyArray1<bool>>> {
+        let qs = configs(qs, self.inner.dof(), "configurations")?;
+        let (robot, scene) = (self.inner.clone(), scene_of(scene));
+        let r = pool::run(py, || rq::check_configurations(&robot, &qs, &scene))?
+            .map_err(|e| robot_error(py, e))?;
+        Ok(PyArray1::from_vec(py, r))
+    }
+
+    /// path_is_free for every segment (Q0[i], Q1[i]) (two (N, dof) arrays), on all cores;
+    /// a bool array of shape (N,), identical to the single calls. The first failing segment
+    /// (an iteration cap) raises, naming its index.
+    #[pyo3(signature = (q0s, q1s, scene=None, tolerance=None, max_iterations=None))]
+    fn paths_are_free<'py>(
+        &self,
+        py: Python<'py>,
+        q0s: &Bound<'py, PyAny>,
+        q1s: &Bound<'py, PyAny>,
+        scene: Option<&Scene>,
+        tolerance: Option<f64>,
+        max_iterations: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<Bound<'py, PyArray1<bool>>> {
+        let segments = self.segments(q0s, q1s)?;
+        let opts = options(py, tolerance, max_iterations)?;
+        let (robot, scene) = (self.inner.clone(), scene_of(scene));
+        let r = pool::run(py, || {
+            rq::path_is_free_batch(&robot, &segments, &scene, &opts)
+        })?
+        .map_err(|e| robot_error(py, e))?;
+        let mut out = Vec::with_capacity(r.len());
+        for (i, x) in r.into_iter().enumerate() {
+            out.push(x.map_err(|e| {
+                let err = robot_error(py, e);
+                error(py, "TocsinError", format!("segment {i}: {err}"))
+            })?);
+        }
+        Ok(PyArray1::from_vec(py, out))
+    }
+
+    /// time_of_contact for every segment (Q0[i], Q1[i]), on all cores: a list of RobotContact
+    /// or None, identical to the single calls. The first failing segment raises, naming it.
+    #[pyo3(signature = (q0s, q1s, scene=None, tolerance=None, max_iterations=None))]
+    fn time_of_contact_batch(
+        &self,
+        py: Python<'_>,
+        q0s: &Bound<'_, PyAny>,
+        q1s: &Bound<'_, PyAny>,
+        scene: Option<&Scene>,
+        tolerance: Option<f64>,
+        max_iterations: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<Vec<Option<RobotContact>>> {
+        let segments = self.segments(q0s, q1s)?;
+        let opts = options(py, tolerance, max_iterations)?;
+        let (robot, scene) = (self.inner.clone(), scene_of(scene));
+        let r = pool::run(py, || {
+            rq::time_of_contact_batch(&robot, &segments, &scene, &opts)
+        })?
+        .map_err(|e| robot_error(py, e))?;
+        let mut out = Vec::with_capacity(r.len());
+        for (i, x) in r.into_iter().enumerate() {
+            let c = x.map_err(|e| {
+                let err = robot_error(py, e);
+                error(py, "TocsinError", format!("segment {i}: {err}"))
+            })?;
+            out.push(c.map(RobotContact::from_core));
+        }
+        Ok(out)
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "Robot(name={:?}, dof={}, objects={}, self_pairs={})",
+            self.inner.name(),
+            self.inner.dof(),
+            self.inner.objects().len(),
+            self.inner.self_pairs().len()
+        )
+    }
+}
+
+impl Robot {
+    fn poses_array<'py>(
+        &self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+        objects: bool,
+    ) -> PyResult<Bound<'py, PyArray3<f64>>> {
+        let q = config(q, "q")?;
+        let poses = if objects {
+            self.inner.object_poses(&q)
+        } else {
+            self.inner.link_poses(&q)
+        }
+        .map_err(|e| robot_error(py, e))?;
+        let n = poses.len();
+        let flat: Vec<f64> = poses
+            .iter()
+            .flat_map(|p| p.to_matrix().transpose().to_cols_array())
+            .collect();
+        PyArray1::from_vec(py, flat).reshape([n, 4, 4])
+    }
+
+    fn segments(
+        &self,
+        q0s: &Bound<'_, PyAny>,
+        q1s: &Bound<'_, PyAny>,
+    ) -> PyResult<Vec<(Vec<f64>, Vec<f64>)>> {
+        let dof = self.inner.dof();
+        let (a, b) = (configs(q0s, dof, "q0s")?, configs(q1s, dof, "q1s")?);
+        if a.len() != b.len() {
+            return Err(error(
+                q0s.py(),
+                "ConfigurationError",
+                format!("q0s has {} rows, q1s {}", a.len(), b.len()),
+            ));
+        }
+        Ok(a.into_iter().zip(b).collect())
+    }
+}
+
+/// Static obstacles for the robot queries: named meshes at world poses. Scene() is empty;
+/// add obstacles with add(name, mesh, pose).
+#[pyclass(module = "tocsin._core")]
+pub(crate) struct Scene {
+    inner: Arc<CoreScene>,
+}
+
+#[pymethods]
+impl Scene {
+    #[new]
+    fn new() -> Self {
+        Self {
+            inner: Arc::new(CoreScene::new()),
+        }
+    }
+
+    /// Adds an obstacle: `mesh` placed by `pose` (4x4, body to world; identity by default).
+    #[pyo3(signature = (name, mesh, pose=None))]
+    fn add(&mut self, name: &str, mesh: &Mesh, pose: Option<&Bound<'_, PyAny>>) -> PyResult<()> {
+        let pose = match pose {
+            Some(p) => pose_from(p, "pose")?,
+            None => tocsin::Pose::IDENTITY,
+        };
+        Arc::make_mut(&mut self.inner).add(name, mesh.inner.clone(), pose);
+        Ok(())
+    }
+
+    /// The obstacles' names, in the order added.
+    #[getter]
+    fn names(&self) -> Vec<String> {
+        self.inner
+            .obstacles()
+            .iter()
+            .map(|o| o.name.clone())
+            .collect()
+    }
+
+    fn __len__(&self) -> usize {
+        self.inner.obstacles().len()
+    }
+
+    fn __repr__(&self) -> String {
+        format!("Scene({} obstacles)", self.inner.obstacles().len())
+    }
+}
+
+/// When and where the robot first comes within the tolerance of itself or an obstacle along a
+/// joint-space segment. `object1` is a robot link (or attached object); `object2` another one
+/// (self_collision True) or an obstacle. Points and normal are world-frame; the normal points
+/// from object1 to object2.
+#[pyclass(frozen, module = "tocsin._core")]
+pub(crate) struct RobotContact {
+    /// Time in [0, 1] along the segment, no later than the first collision.
+    #[pyo3(get)]
+    time: f64,
+    /// The robot object of the pair.
+    #[pyo3(get)]
+    object1: String,
+    /// The other object: a robot link or an obstacle.
+    #[pyo3(get)]
+    object2: String,
+    /// Whether object2 is part of the robot.
+    #[pyo3(get)]
+    self_collision: bool,
+    /// Distance at `time` (at most the tolerance).
+    #[pyo3(get)]
+    distance: f64,
+    /// Advancement iterations of the pair that made the contact.
+    #[pyo3(get)]
+    iterations: usize,
+    /// 'converged' or 'started_in_contact'.
+    #[pyo3(get)]
+    status: &'static str,
+    p1: Vec3,
+    p2: Vec3,
+    n: Vec3,
+}
+
+#[pymethods]
+impl RobotContact {
+    /// Closest point on object1 at `time`, world frame, shape (3,).
+    #[getter]
+    fn point1<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        vec3(py, self.p1)
+    }
+
+    /// Closest point on object2 at `time`, world frame, shape (3,).
+    #[getter]
+    fn point2<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        vec3(py, self.p2)
+    }
+
+    /// Unit normal from object1 to object2, world frame, shape (3,).
+    #[getter]
+    fn normal<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        vec3(py, self.n)
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "RobotContact(time={}, object1={:?}, object2={:?}, distance={}, status='{}')",
+            self.time, self.object1, self.object2, self.distance, self.status
+        )
+    }
+}
+
+impl RobotContact {
+    fn from_core(c: rq::RobotContact) -> Self {
+        Self {
+            time: c.time,
+            object1: c.object1,
+            object2: c.object2,
+            self_collision: c.self_collision,
+            distance: c.distance,
+            iterations: c.iterations,
+            status: status_name(c.status),
+            p1: c.point1,
+            p2: c.point2,
+            n: c.normal,
+        }
+    }
+}
