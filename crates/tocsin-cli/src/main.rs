@@ -6,9 +6,11 @@
 //! (a 4x4 matrix, row-major), comma-separated. Motions are `KIND:START:END` with KIND one of
 //! `translation`, `interp`, `screw` and START, END poses (`interp` takes an optional fourth
 //! field, the centre `x,y,z` in the body frame). `tocsin run scene.json` (or `.toml`) runs a
-//! scene file (see `scene.rs`). Errors print one line and exit with status 2.
+//! scene file (see `scene.rs`); `tocsin robot-path robot.urdf --q0 .. --q1 ..` checks a robot's
+//! joint-space segment (see `robot.rs`). Errors print one line and exit with status 2.
 
 mod render;
+mod robot;
 mod scene;
 mod spec;
 
@@ -127,6 +129,12 @@ enum Command {
         /// The scene file.
         scene: String,
     },
+    /// Exact check of a robot's straight joint-space segment q0 -> q1 against itself and the
+    /// obstacles of --scene: the first time of contact, or with --free-only whether it is free.
+    RobotPath {
+        #[command(flatten)]
+        args: robot::RobotPathArgs,
+    },
     /// Whether the distance is at most THRESHOLD (model units).
     Within {
         #[command(flatten)]
@@ -222,6 +230,7 @@ fn run(cli: Cli) -> Result<serde_json::Value, String> {
             Ok(json_out)
         }
         Command::Run { scene } => scene::run(&scene),
+        Command::RobotPath { args } => robot::run(&args),
         Command::Within { pair, threshold } => {
             let (m1, p1, m2, p2) = setup(&pair)?;
             let w = within_distance(&m1, &p1, &m2, &p2, threshold).map_err(|e| e.to_string())?;

@@ -396,3 +396,79 @@ fn scene_keys_given_twice_are_errors_and_paths_are_relative_to_the_scene() {
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert!((v["results"][0]["distance"].as_f64().unwrap() - 2.0).abs() < 1e-12);
 }
+
+/// The vendored Panda: a sweep of the first joint past a small box in reach, free when the box
+/// is out of the way, a contact with the hand or a link when it stands in the path.
+#[test]
+fn robot_path_reports_contacts_and_free_segments() {
+    let urdf = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../data/franka_panda/panda.urdf"
+    );
+    let dir = std::env::temp_dir().join(format!("tocsin-cli-robot-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    // A 10 cm cube as an OBJ file next to the scene (relative path).
+    let mut obj = String::new();
+    for i in 0..8 {
+        let c = |b: i32| if i & b == 0 { -0.05 } else { 0.05 };
+        obj += &format!("v {} {} {}\n", c(1), c(2), c(4));
+    }
+    for f in [
+        [1, 3, 4],
+        [1, 4, 2],
+        [5, 6, 8],
+        [5, 8, 7],
+        [1, 2, 6],
+        [1, 6, 5],
+        [3, 7, 8],
+        [3, 8, 4],
+        [1, 5, 7],
+        [1, 7, 3],
+        [2, 4, 8],
+        [2, 8, 6],
+    ] {
+        obj += &format!("f {} {} {}\n", f[0], f[1], f[2]);
+    }
+    std::fs::write(dir.join("cube.obj"), obj).unwrap();
+    let q0 = "-1,0.3,0,-2,0,2.4,0.8,0.04";
+    let q1 = "1,0.3,0,-2,0,2.4,0.8,0.04";
+    for (z, blocked) in [(0.3, true), (2.5, false)] {
+        let scene = dir.join(format!("scene{z}.toml"));
+        std::fs::write(
+            &scene,
+            format!(
+                "[[obstacles]]\nname = \"post\"\nmesh = \"cube.obj\"\npose = [0.6, 0.0, {z}]\n"
+            ),
+        )
+        .unwrap();
+        let s = scene.to_str().unwrap();
+        let (code, out, err) = tocsin(&["robot-path", urdf, "--q0", q0, "--q1", q1, "--scene", s]);
+        assert_eq!(code, 0, "{err}");
+        let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+        assert_eq!(v["free"], !blocked, "{out}");
+        if blocked {
+            assert_eq!(v["contact"]["object2"], "post");
+            let t = v["contact"]["time"].as_f64().unwrap();
+            assert!(t > 0.0 && t < 1.0, "{out}");
+        }
+        let (_, out, _) = tocsin(&[
+            "robot-path",
+            urdf,
+            "--q0",
+            q0,
+            "--q1",
+            q1,
+            "--scene",
+            s,
+            "--free-only",
+        ]);
+        let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+        assert_eq!(v["free"], !blocked);
+    }
+    let (code, _, err) = tocsin(&["robot-path", urdf, "--q0", "0,0", "--q1", q1]);
+    assert_eq!(code, 2);
+    assert!(err.contains("has 2 values"), "{err}");
+    let (code, _, err) = tocsin(&["robot-path", "/nonexistent.urdf", "--q0", q0, "--q1", q1]);
+    assert_eq!(code, 2);
+    assert!(err.contains("nonexistent"), "{err}");
+}

@@ -1,7 +1,8 @@
 //! `make demo`: two built-in torus knots (34,000 triangles each): distance, tolerance and
 //! collision queries at several separations; then continuous collision (a knot flying and
 //! spinning into another, and a thin plate crossing another at speed), each against sampling
-//! the motion at 100 poses.
+//! the motion at 100 poses; last, a robot: the Franka Panda sweeping its fingers through a 1 mm
+//! plate that 101 sampled configurations miss.
 
 use std::time::Instant;
 use tocsin::{
@@ -154,5 +155,76 @@ fn continuous(knot: &TriMesh) -> Result<(), Box<dyn std::error::Error>> {
     }
     println!("\nSampling 100 poses reports a contact late (after the bodies already interpenetrate) or not");
     println!("at all; the time of contact above is never after the first contact and is within the tolerance.");
+    robot_plate()
+}
+
+/// The Franka Panda (collision meshes from pybullet_data, vendored in data/franka_panda) turns
+/// its first joint from -2.8 to 2.8 rad with a 1 mm plate across its fingers' path, reaching
+/// 3 mm above their lowest point: 101 exact configuration checks (a 1% resolution) find nothing,
+/// the exact segment check finds the contact.
+fn robot_plate() -> Result<(), Box<dyn std::error::Error>> {
+    use tocsin::robot::{query, RobotOptions, Scene};
+    let urdf = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../data/franka_panda/panda.urdf"
+    );
+    let robot = tocsin::Robot::from_urdf_file(urdf, &[])?;
+    let q0 = [-2.8, 0.3, 0.0, -2.0, 0.0, 2.4, 0.8, 0.04];
+    let mut q1 = q0;
+    q1[0] = 2.8;
+    let mid: Vec<f64> = q0.iter().zip(&q1).map(|(a, b)| 0.5 * (a + b)).collect();
+    let poses = robot.object_poses(&mid)?;
+    let mut points = Vec::new();
+    for (o, pose) in robot.objects().iter().zip(&poses) {
+        if o.name.ends_with("finger") {
+            points.extend(o.mesh.vertices().iter().map(|&v| pose.transform_point(v)));
+        }
+    }
+    let centre = points.iter().fold(Vec3::ZERO, |a, &p| a + p) / points.len() as f64;
+    let lowest = points.iter().fold(f64::INFINITY, |m, p| m.min(p.z));
+    let radial = Vec3::new(centre.x, centre.y, 0.0).normalize();
+    let rotation = tocsin::Mat3::from_cols(Vec3::new(-radial.y, radial.x, 0.0), -radial, Vec3::Z);
+    let pose = Pose::new(
+        rotation,
+        Vec3::new(centre.x, centre.y, lowest + 0.003 - 0.2),
+    )?;
+    let mut scene = Scene::new();
+    scene.add(
+        "plate",
+        std::sync::Arc::new(mesh::box_mesh(Vec3::new(0.0005, 0.2, 0.2))?),
+        pose,
+    );
+    let samples: Vec<Vec<f64>> = (0..=100)
+        .map(|k| {
+            let t = k as f64 / 100.0;
+            q0.iter().zip(&q1).map(|(a, b)| a + t * (b - a)).collect()
+        })
+        .collect();
+    let hits = query::check_configurations(&robot, &samples, &scene)?;
+    let opts = RobotOptions::default();
+    let (r, us) = time(10, || {
+        query::time_of_contact(&robot, &q0, &q1, &scene, &opts)
+    });
+    println!(
+        "\nRobot: the Franka Panda ({} links with geometry, {} self pairs) sweeps its fingers",
+        robot.objects().len(),
+        robot.self_pairs().len()
+    );
+    println!("through a 1 mm plate (first joint -2.8 -> 2.8 rad).");
+    println!(
+        "  101 sampled configurations: {}",
+        if hits.iter().any(|&h| h) {
+            "collision"
+        } else {
+            "free (the plate is missed)"
+        }
+    );
+    match r? {
+        Some(c) => println!(
+            "  tocsin, exact: contact at t = {:.5} between {} and {}, distance {:.1e} m ({us:.0} us)",
+            c.time, c.object1, c.object2, c.distance
+        ),
+        None => println!("  tocsin, exact: free ({us:.0} us)"),
+    }
     Ok(())
 }
