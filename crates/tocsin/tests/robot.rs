@@ -237,8 +237,11 @@ fn srdf_user_pairs_and_attachments_change_the_checked_pairs() {
         .unwrap();
     assert_eq!(n, 1);
     assert!(robot.self_pairs().is_empty());
+    // A link the robot does not have is ignored, as MoveIt does.
+    let unknown = "<robot><disable_collisions link1='a' link2='zz'/></robot>";
+    assert_eq!(robot.apply_srdf_str(unknown).unwrap(), 0);
     assert!(robot
-        .apply_srdf_str("<robot><disable_collisions link1='a' link2='zz'/></robot>")
+        .apply_srdf_str("<robot><disable_collisions link1='a'/></robot>")
         .is_err());
     assert!(robot.apply_srdf_str("<robot").is_err());
     let part = tocsin::mesh::box_mesh(Vec3::splat(0.02)).unwrap();
