@@ -110,6 +110,20 @@ impl Mesh {
         )
     }
 
+    /// A cylinder along z centred at the origin (radius, full length), tessellated so that it
+    /// contains the true cylinder (the radial slack is below 0.5%).
+    #[staticmethod]
+    fn cylinder(py: Python<'_>, radius: f64, length: f64) -> PyResult<Self> {
+        Self::built(py, pool::run(py, || tocsin::mesh::cylinder(radius, length))?)
+    }
+
+    /// A capsule along z (radius, length of its cylinder part; the URDF convention), tessellated
+    /// so that it contains the true capsule (slack about 2% of the radius).
+    #[staticmethod]
+    fn capsule(py: Python<'_>, radius: f64, length: f64) -> PyResult<Self> {
+        Self::built(py, pool::run(py, || tocsin::mesh::capsule(radius, length))?)
+    }
+
     /// An axis-aligned box centred at the origin with the given three half extents (12
     /// triangles).
     #[staticmethod]

@@ -94,6 +94,14 @@ pub enum MeshError {
         /// The file.
         path: PathBuf,
     },
+    /// A generator's size parameter (a radius, a length) is not positive and finite.
+    #[error("{name} must be positive and finite, got {value}")]
+    BadSize {
+        /// The parameter.
+        name: &'static str,
+        /// The value given.
+        value: f64,
+    },
     /// A file's mesh is invalid (for example an out-of-range index in a face).
     #[error("{path}: {source}")]
     InFile {

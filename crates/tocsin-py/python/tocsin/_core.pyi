@@ -57,6 +57,12 @@ class Mesh:
     def sphere(radius: float, n_lat: int, n_lon: int) -> Mesh:
         """A UV sphere centred at the origin."""
     @staticmethod
+    def cylinder(radius: float, length: float) -> Mesh:
+        """A cylinder along z containing the true cylinder (radial slack below 0.5%)."""
+    @staticmethod
+    def capsule(radius: float, length: float) -> Mesh:
+        """A capsule along z containing the true capsule (slack about 2% of the radius)."""
+    @staticmethod
     def box(half_extents: Union[Sequence[float], npt.NDArray[np.float64]]) -> Mesh:
         """An axis-aligned box centred at the origin (12 triangles)."""
     @staticmethod

@@ -154,3 +154,29 @@ pub fn plate(size: f64, n: usize) -> Result<TriMesh, MeshError> {
     }
     build(vertices, triangles)
 }
+
+/// A cylinder of radius `radius` and length `length` along z, centred at the origin, as a
+/// conservative tessellation that contains the true cylinder (radial slack below 0.5%; see
+/// [`crate::robot::primitives`]). Refuses a non-positive or non-finite size.
+pub fn cylinder(radius: f64, length: f64) -> Result<TriMesh, MeshError> {
+    check_round(radius, length)?;
+    let (v, t) = crate::robot::primitives::cylinder_soup(radius, length);
+    build(v, t)
+}
+
+/// A capsule (URDF convention: a cylinder of length `length` along z capped by half spheres of
+/// radius `radius`), containing the true capsule (slack about 2% of the radius).
+pub fn capsule(radius: f64, length: f64) -> Result<TriMesh, MeshError> {
+    check_round(radius, length.max(f64::MIN_POSITIVE))?;
+    let (v, t) = crate::robot::primitives::capsule_soup(radius, length.max(0.0));
+    build(v, t)
+}
+
+fn check_round(radius: f64, length: f64) -> Result<(), MeshError> {
+    for (name, value) in [("radius", radius), ("length", length)] {
+        if !(value.is_finite() && value > 0.0) {
+            return Err(MeshError::BadSize { name, value });
+        }
+    }
+    Ok(())
+}

@@ -9,7 +9,7 @@
 mod generate;
 mod load;
 
-pub use generate::{box_mesh, plate, sphere, torus_knot};
+pub use generate::{box_mesh, capsule, cylinder, plate, sphere, torus_knot};
 
 use crate::bvh::Bvh;
 use crate::error::MeshError;

@@ -1,0 +1,293 @@
+"""Robot segment checks on MotionBenchMaker (Panda, UR5, Fetch), side by side with Pinocchio +
+coal discrete checks at OMPL's default resolution, in one run, interleaved edge by edge.
+
+Problems, URDF, SRDF and meshes come from the vamp-planner source distribution on PyPI
+(downloaded once into ~/.cache/tocsin-bench; read, never built). Per scenario, for the first
+--problems problems: --edges random 0.5 rad edges from the start state (random unit direction in
+joint space, clipped to the limits) plus the start-to-goal edge. Each edge is checked by
+
+- tocsin ``Robot.path_is_free`` (exact, self-collision included), and
+- Pinocchio + coal ``computeCollisions`` at the states OMPL's DiscreteMotionValidator visits
+  at its default resolution (1% of the space's extent: ``ceil(|q1 - q0| / (0.01 extent))``
+  states after the start, stopping at the first collision),
+
+and each start state by both single-configuration checks. Objects are built once, outside the
+timers; every call is made as a planner's loop would make it, one at a time from Python.
+Verdicts are compared: an edge the sampler calls free and tocsin does not is checked again with
+coal at 20,001 states; a collision found there makes it a confirmed miss of the sampler.
+
+    python bench/robot_mbm.py [--problems 10] [--edges 20] [--robots panda,ur5,fetch] [--out FILE]
+"""
+
+import argparse
+import io
+import json
+import math
+import os
+import pathlib
+import platform
+import statistics
+import tarfile
+import time
+import urllib.request
+
+import numpy as np
+import yaml
+
+import tocsin
+
+CACHE = pathlib.Path(os.environ.get("TOCSIN_BENCH_CACHE", pathlib.Path.home() / ".cache" / "tocsin-bench"))
+VERSION = "0.6.4"
+
+
+def vamp_resources():
+    root = CACHE / f"vamp_planner-{VERSION}"
+    if not (root / "resources").exists():
+        CACHE.mkdir(parents=True, exist_ok=True)
+        meta = json.load(urllib.request.urlopen(f"https://pypi.org/pypi/vamp-planner/{VERSION}/json", timeout=60))
+        url = next(f["url"] for f in meta["urls"] if f["filename"].endswith(".tar.gz"))
+        data = urllib.request.urlopen(url, timeout=300).read()
+        with tarfile.open(fileobj=io.BytesIO(data), mode="r:gz") as tar:
+            members = [m for m in tar.getmembers() if "/resources/" in m.name]
+            tar.extractall(CACHE, members=members, filter="data")
+    return root / "resources"
+
+
+def problems(resources, robot, limit):
+    """(scenario, scene dict, request dict) for the first `limit` problems of each scenario."""
+    out = {}
+    with tarfile.open(resources / robot / "problems.tar.bz2", mode="r:bz2") as tar:
+        names = sorted(m.name for m in tar.getmembers() if m.name.endswith(".yaml"))
+        for name in names:
+            parts = pathlib.PurePosixPath(name).parts
+            scenario, file = parts[-2], parts[-1]
+            if not file.startswith("scene"):
+                continue
+            index = file[len("scene") : -len(".yaml")]
+            if int(index) > limit:
+                continue
+            scene = yaml.safe_load(tar.extractfile(name))
+            request_name = str(pathlib.PurePosixPath(name).with_name(f"request{index}.yaml"))
+            request = yaml.safe_load(tar.extractfile(request_name))
+            out.setdefault(scenario, []).append((scene, request))
+    return out
+
+
+def quat_matrix(q):
+    x, y, z, w = q
+    n = math.sqrt(x * x + y * y + z * z + w * w)
+    x, y, z, w = x / n, y / n, z / n, w / n
+    return np.array(
+        [
+            [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+            [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+            [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
+        ]
+    )
+
+
+def obstacles(scene):
+    for obj in scene["world"]["collision_objects"]:
+        for prim, pose in zip(obj["primitives"], obj["primitive_poses"]):
+            m = np.eye(4)
+            m[:3, :3] = quat_matrix(pose["orientation"])
+            m[:3, 3] = pose["position"]
+            yield obj["id"], prim["type"], prim["dimensions"], m
+
+
+class Tocsin:
+    def __init__(self, urdf, srdf):
+        self.robot = tocsin.Robot.from_urdf(urdf, srdf=srdf)
+
+    def scene(self, scene):
+        s = tocsin.Scene()
+        for k, (name, kind, dims, pose) in enumerate(obstacles(scene)):
+            if kind == "box":
+                mesh = tocsin.Mesh.box(np.array(dims) / 2)
+            elif kind == "cylinder":  # MoveIt: [height, radius]
+                mesh = tocsin.Mesh.cylinder(dims[1], dims[0])
+            elif kind == "sphere":
+                mesh = tocsin.Mesh.sphere(dims[0], 16, 32)
+            else:
+                raise ValueError(kind)
+            s.add(f"{name}#{k}", mesh, pose)
+        return s
+
+
+class Pinocchio:
+    """Pinocchio's kinematics from the same URDF, and coal checks on the same triangles as
+    tocsin's: assimp (Pinocchio's mesh loader) reads the MotionBenchMaker Panda's link6.obj into
+    a different surface (1,177 of its 1,308 triangles differ from the file's faces), so each
+    collision object's coal BVH is built from tocsin's mesh of it, attached to the joint of its
+    body, and the checked pairs are tocsin's (the SRDF gives both the same 21 on the Panda)."""
+
+    def __init__(self, urdf, robot):
+        import coal
+        import pinocchio as pin
+
+        self.pin = pin
+        self.model = pin.buildModelFromUrdf(str(urdf))
+        self.robot_geom = pin.GeometryModel()
+        index = {}
+        for name in robot.object_names:
+            mesh = robot.object_mesh(name)
+            bvh = coal.BVHModelOBBRSS()
+            bvh.beginModel(mesh.num_triangles, mesh.num_vertices)
+            bvh.addVertices(np.ascontiguousarray(mesh.vertices))
+            bvh.addTriangles(np.ascontiguousarray(mesh.triangles.astype(np.int64)))
+            bvh.endModel()
+            frame_id = self.model.getFrameId(name)
+            joint = self.model.frames[frame_id].parentJoint
+            obj = pin.GeometryObject(name, joint, frame_id, pin.SE3.Identity(), bvh)
+            index[name] = self.robot_geom.addGeometryObject(obj)
+        for a, b in robot.self_pairs:
+            self.robot_geom.addCollisionPair(pin.CollisionPair(index[a], index[b]))
+        self.data = self.model.createData()
+
+    def scene(self, scene):
+        import coal
+
+        pin = self.pin
+        geom = self.robot_geom.copy()
+        n_robot = len(geom.geometryObjects)
+        for k, (name, kind, dims, pose) in enumerate(obstacles(scene)):
+            if kind == "box":
+                shape = coal.Box(*dims)
+            elif kind == "cylinder":
+                shape = coal.Cylinder(dims[1], dims[0])
+            elif kind == "sphere":
+                shape = coal.Sphere(dims[0])
+            else:
+                raise ValueError(kind)
+            placement = pin.SE3(pose[:3, :3], pose[:3, 3])
+            obj = pin.GeometryObject(f"{name}#{k}", 0, 0, placement, shape)
+            gid = geom.addGeometryObject(obj)
+            for r in range(n_robot):
+                geom.addCollisionPair(pin.CollisionPair(r, gid))
+        return geom, pin.GeometryData(geom)
+
+    def in_collision(self, geom, q):
+        return self.pin.computeCollisions(self.model, self.data, geom[0], geom[1], q, True)
+
+
+def percentile(values, p):
+    if not values:
+        return float("nan")
+    values = sorted(values)
+    return values[min(len(values) - 1, int(p * len(values)))]
+
+
+def run(args):
+    resources = vamp_resources()
+    rng = np.random.default_rng(args.seed)
+    rows = []
+    for robot_name in args.robots.split(","):
+        base = resources / robot_name
+        urdf, srdf = base / f"{robot_name}.urdf", base / f"{robot_name}.srdf"
+        ours = Tocsin(urdf, srdf)
+        theirs = Pinocchio(urdf, robot=ours.robot)
+        robot = ours.robot
+        limits = robot.joint_limits
+        lo, hi = limits[:, 0], limits[:, 1]
+        extent = float(np.linalg.norm(hi - lo))
+        assert theirs.model.nq == robot.dof, (theirs.model.nq, robot.dof)
+        for scenario, items in sorted(problems(resources, robot_name, args.problems).items()):
+            stats = {k: [] for k in ("t_free", "t_coll", "p_free", "p_coll", "t_cfg", "p_cfg", "t_goal", "p_goal")}
+            counts = {"free": 0, "coll": 0, "miss": 0, "unconfirmed": 0, "extra": 0, "edges": 0}
+            for scene_yaml, request in items:
+                scene = ours.scene(scene_yaml)
+                geom = theirs.scene(scene_yaml)
+                names = request["start_state"]["joint_state"]["name"]
+                values = dict(zip(names, request["start_state"]["joint_state"]["position"]))
+                q_start = np.array([values[n] for n in robot.joint_names])
+                goal = {c["joint_name"]: c["position"] for c in request["goal_constraints"][0]["joint_constraints"]}
+                q_goal = np.array([goal[n] for n in robot.joint_names])
+                # Single configurations, interleaved.
+                for _ in range(5):
+                    t0 = time.perf_counter()
+                    a = robot.in_collision(q_start, scene)
+                    t1 = time.perf_counter()
+                    b = theirs.in_collision(geom, q_start)
+                    t2 = time.perf_counter()
+                    stats["t_cfg"].append((t1 - t0) * 1e6)
+                    stats["p_cfg"].append((t2 - t1) * 1e6)
+                edges = []
+                for _ in range(args.edges):
+                    u = rng.normal(size=robot.dof)
+                    edges.append((q_start, np.clip(q_start + 0.5 * u / np.linalg.norm(u), lo, hi), False))
+                edges.append((q_start, q_goal, True))
+                for q0, q1, is_goal in edges:
+                    counts["edges"] += 1
+                    t0 = time.perf_counter()
+                    free = robot.path_is_free(q0, q1, scene)
+                    t1 = time.perf_counter()
+                    n = max(1, math.ceil(np.linalg.norm(q1 - q0) / (0.01 * extent)))
+                    sampled_free = True
+                    for k in range(1, n + 1):
+                        if theirs.in_collision(geom, q0 + (k / n) * (q1 - q0)):
+                            sampled_free = False
+                            break
+                    t2 = time.perf_counter()
+                    if is_goal:
+                        stats["t_goal"].append((t1 - t0) * 1e6)
+                        stats["p_goal"].append((t2 - t1) * 1e6)
+                    else:
+                        stats["t_free" if free else "t_coll"].append((t1 - t0) * 1e6)
+                        stats["p_free" if sampled_free else "p_coll"].append((t2 - t1) * 1e6)
+                    counts["free" if free else "coll"] += 1
+                    if sampled_free and not free:
+                        dense = any(
+                            theirs.in_collision(geom, q0 + t * (q1 - q0)) for t in np.linspace(0, 1, 20001)
+                        )
+                        counts["miss" if dense else "unconfirmed"] += 1
+                    if free and not sampled_free:
+                        counts["extra"] += 1
+            row = {
+                "robot": robot_name,
+                "scenario": scenario,
+                **counts,
+                **{k: (statistics.median(v) if v else float("nan"), percentile(v, 0.9)) for k, v in stats.items()},
+            }
+            rows.append(row)
+            print(json.dumps(row))
+    return rows
+
+
+def table(rows, args):
+    lines = [
+        f"Machine: {platform.processor() or platform.machine()}, {os.cpu_count()} cores; Python "
+        f"{platform.python_version()}, tocsin {tocsin.__version__}; {args.problems} problems per "
+        f"scenario, {args.edges} random 0.5 rad edges from each start state plus the start-to-goal edge; "
+        "times in microseconds through Python, median (90th percentile).",
+        "",
+        "| robot | scenario | edges free / colliding (tocsin) | tocsin free edge | tocsin colliding edge | "
+        "pin+coal 1% free edge | pin+coal 1% colliding edge | tocsin start-goal | pin+coal 1% start-goal | "
+        "tocsin config | pin+coal config | 1% sampler wrong: missed (confirmed) / unconfirmed / false alarm |",
+        "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
+    ]
+    f = lambda v: f"{v[0]:.0f} ({v[1]:.0f})" if not math.isnan(v[0]) else "-"
+    for r in rows:
+        lines.append(
+            f"| {r['robot']} | {r['scenario']} | {r['free']} / {r['coll']} | {f(r['t_free'])} | {f(r['t_coll'])} | "
+            f"{f(r['p_free'])} | {f(r['p_coll'])} | {f(r['t_goal'])} | {f(r['p_goal'])} | {f(r['t_cfg'])} | "
+            f"{f(r['p_cfg'])} | {r['miss']} / {r['unconfirmed']} / {r['extra']} |"
+        )
+    return "\n".join(lines)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--problems", type=int, default=10)
+    parser.add_argument("--edges", type=int, default=20)
+    parser.add_argument("--robots", default="panda,ur5,fetch")
+    parser.add_argument("--seed", type=int, default=1)
+    parser.add_argument("--out")
+    args = parser.parse_args()
+    text = table(run(args), args)
+    print(text)
+    if args.out:
+        pathlib.Path(args.out).write_text(text + "\n")
+
+
+if __name__ == "__main__":
+    main()
