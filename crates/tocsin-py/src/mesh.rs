@@ -114,7 +114,10 @@ impl Mesh {
     /// contains the true cylinder (the radial slack is below 0.5%).
     #[staticmethod]
     fn cylinder(py: Python<'_>, radius: f64, length: f64) -> PyResult<Self> {
-        Self::built(py, pool::run(py, || tocsin::mesh::cylinder(radius, length))?)
+        Self::built(
+            py,
+            pool::run(py, || tocsin::mesh::cylinder(radius, length))?,
+        )
     }
 
     /// A capsule along z (radius, length of its cylinder part; the URDF convention), tessellated

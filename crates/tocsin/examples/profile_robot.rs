@@ -40,10 +40,13 @@ fn main() {
     let mut n_free = 0;
     let mut starts = 0;
     while free_t.len() + coll_t.len() < edges {
-        let q0: Vec<f64> = limits
-            .iter()
-            .map(|(lo, hi)| rng.random_range(*lo..=*hi))
-            .collect();
+        let q0: Vec<f64> = match std::env::var("START") {
+            Ok(s) => s.split(',').map(|x| x.parse().expect("START")).collect(),
+            Err(_) => limits
+                .iter()
+                .map(|(lo, hi)| rng.random_range(*lo..=*hi))
+                .collect(),
+        };
         if query::in_collision(&robot, &q0, &scene).expect("q") {
             continue;
         }

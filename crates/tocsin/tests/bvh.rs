@@ -23,6 +23,17 @@ fn check(m: &TriMesh) {
     let bvh = m.bvh();
     let nodes = bvh.nodes();
     assert_eq!(nodes.len(), 2 * m.num_triangles() - 1);
+    // The separating-axis bounds take the axes as an orthonormal right-handed frame; a
+    // degenerate axis would still "contain" every point (its coordinate is always 0).
+    for (k, node) in nodes.iter().enumerate() {
+        let a = node.rss.axes;
+        let gram = a.transpose() * a;
+        let off = (gram - tocsin::Mat3::IDENTITY).to_cols_array();
+        assert!(
+            off.iter().all(|x| x.abs() < 1e-12) && a.determinant() > 0.0,
+            "node {k}: axes {a:?} are not a rotation"
+        );
+    }
     let mut seen = vec![0; m.num_triangles()];
     // (node index, ancestors)
     let mut stack = vec![(0u32, Vec::<u32>::new())];
@@ -75,6 +86,21 @@ fn volumes_contain_their_triangles() {
     }
     check(&mesh::torus_knot(175, 8).unwrap());
     check(&mesh::plate(2.0, 10).unwrap());
+    // Small meshes get their rectangles turned to an edge direction (boxes, primitives): a box
+    // whose faces' edges run along the normal once gave a zero axis.
+    for h in [
+        [0.02, 0.4, 0.4],
+        [0.6, 1.0, 0.02],
+        [1.0, 1.0, 1.0],
+        [0.5, 0.3, 1e-9],
+    ] {
+        check(&mesh::box_mesh(Vec3::from_array(h)).unwrap());
+    }
+    check(&mesh::cylinder(0.05, 0.3).unwrap());
+    check(&mesh::capsule(0.2, 0.0).unwrap());
+    for n in [5, 40, 200] {
+        check(&random_soup(&mut rng, n, 1.0));
+    }
     // All triangles identical: the split must still terminate and cover each once.
     let v = vec![Vec3::ZERO, Vec3::X, Vec3::Y];
     check(&TriMesh::new(v, vec![[0, 1, 2]; 50]).unwrap());
