@@ -32,9 +32,13 @@ use crate::query::contact_time::{
 };
 use crate::TriMesh;
 
-/// Iterations after which [`path_is_free`] probes a pair for a collision at the end of its
-/// span.
+/// Iterations after which [`path_is_free`] probes a pair for a collision at [`PROBES`] evenly
+/// spaced times of the rest of its span (a collision found there is a real one, and settles a
+/// colliding edge without converging to the contact).
 const PROBE_AFTER: usize = 3;
+/// Probe times; see [`PROBE_AFTER`]. With the end and middle probes made before any
+/// advancement (see `Segment::run`), these catch collisions the advancement approaches slowly.
+const PROBES: usize = 4;
 
 /// The first iteration of a pair's advancement takes its bounds over this fraction of the
 /// span: pairs whose step exceeds the window are not visited, and over a shorter window the
@@ -367,7 +371,27 @@ impl<'r> Segment<'r> {
     fn run(&self, first_only: bool) -> Result<Option<RobotContact>, RobotError> {
         type Found = (f64, Pair, crate::query::contact_time::Ends, ContactCache);
         let mut best: Option<Found> = None;
-        for (start, end, pair) in self.candidates() {
+        let candidates = self.candidates();
+        if first_only {
+            // A yes/no answer: a pair that collides at the end or the middle of one of its
+            // spans settles it at the cost of two exact collision tests, before any
+            // advancement. Measured on MotionBenchMaker Panda (10 problems x 20 random 0.5 rad
+            // edges + the start-goal edge per scenario, two runs each): colliding random edges
+            // 100-440 -> 50-93 us median with the end probe; start-goal edges (which collide
+            // half way) 300-1370 -> 100-270 us with the middle one; free edges pay 3-7 us.
+            for &(start, end, pair) in &candidates {
+                let (relative, _) = self.pair_paths(pair);
+                let (m1, p1, m2, p2) = self.meshes(pair, relative.as_ref());
+                if collide(m1, &p1.pose_at(end), m2, &p2.pose_at(end)) {
+                    return Ok(Some(self.contact_at(pair, end)));
+                }
+                let half = 0.5 * (start + end);
+                if collide(m1, &p1.pose_at(half), m2, &p2.pose_at(half)) {
+                    return Ok(Some(self.contact_at(pair, half)));
+                }
+            }
+        }
+        for (start, end, pair) in candidates {
             let limit = best.as_ref().map_or(1.0, |b| b.0);
             if start >= limit {
                 break;
@@ -398,9 +422,12 @@ impl<'r> Segment<'r> {
                 };
                 match advance_paths(m1, p1, m2, p2, &short, &mut cache) {
                     Err(crate::ContactError::IterationLimit { time_reached, .. }) => {
-                        let at = span.end;
-                        if collide(m1, &p1.pose_at(at), m2, &p2.pose_at(at)) {
-                            return Ok(Some(self.contact_at(pair, at)));
+                        let rest = span.end - time_reached;
+                        for k in 1..=PROBES {
+                            let at = time_reached + rest * k as f64 / PROBES as f64;
+                            if collide(m1, &p1.pose_at(at), m2, &p2.pose_at(at)) {
+                                return Ok(Some(self.contact_at(pair, at)));
+                            }
                         }
                         let rest = Span {
                             start: time_reached,
