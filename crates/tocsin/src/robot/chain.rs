@@ -119,6 +119,13 @@ impl ChainPath {
         self.steps.first().map_or(0.0, |s| s.v_rel)
     }
 
+    /// Largest speed of any point of the object relative to the frame of the body reached after
+    /// the first `skip` joints (the same `v_rel` constants: `R_j` only depends on the joints
+    /// from `j` on).
+    pub fn max_speed_after(&self, skip: usize) -> f64 {
+        self.steps.get(skip).map_or(0.0, |s| s.v_rel)
+    }
+
     /// The body's world pose at time `t`.
     pub fn pose_at(&self, t: f64) -> Pose {
         let mut pose = self.base;

@@ -4,16 +4,21 @@
 //! # How a segment is checked
 //!
 //! 1. **Pairs.** The robot's self pairs (see [`Robot`]) and every (robot object, obstacle) pair.
-//! 2. **Swept boxes (temporal culling).** The segment is cut into [`RobotOptions::sub_intervals`]
-//!    equal pieces. On a piece `[ta, tb]`, an object lies within `v (tb - ta) / 2` of where it is
-//!    at the middle time, `v` the object's largest speed over the segment (the chain bound, see
-//!    `chain.rs`), so its world box at the middle (from its root volume) grown by that much, and
-//!    by `delta / 2`, holds it over the whole piece. A pair whose boxes are apart on a piece
-//!    cannot come within `delta` there; the pieces where they overlap are merged into spans.
+//! 2. **Swept volumes (temporal culling).** A binary subdivision of `[0, 1]`, down to
+//!    [`RobotOptions::cull_depth`] levels (pieces of 1/16 by default), evaluated only where
+//!    needed. On a piece `[ta, tb]` an object lies within `v (tb - ta) / 2` of where it is at the
+//!    middle time, `v` its largest speed over the segment (the chain bound of `chain.rs`), so if
+//!    the two root volumes at the middle time are farther apart (separating-axis bound) than the
+//!    two growths plus `delta`, the pair cannot come within `delta` on that piece and the piece
+//!    is not split further. For two links the speeds are relative to the deepest body both hang
+//!    from (the joints they share move both alike). The finest pieces that remain, merged, are
+//!    the pair's spans.
 //! 3. **Advancement.** Each pair runs the rigid core's conservative advancement (the same step
 //!    search, with the chain bound in place of the rigid one) over each of its spans, earliest
 //!    span first. For the time of contact, a span that starts after the earliest contact found
-//!    so far is skipped and the others stop there; [`path_is_free`] stops at the first contact.
+//!    so far is skipped and the others stop there; [`path_is_free`] stops at the first contact,
+//!    and first probes every candidate pair with exact collision tests at the end and middle
+//!    of its spans (a collision found there is real).
 //!
 //! The answer has the semantics of the rigid query, pair by pair: a contact is reported
 //! whenever some checked pair comes closer than `delta / 2` (in particular whenever one
@@ -269,6 +274,7 @@ impl<'r> Segment<'r> {
     fn spans(
         &self,
         pair: Pair,
+        speeds: (f64, f64),
         cache: &mut PoseCache,
         node: usize,
         level: u32,
@@ -281,17 +287,13 @@ impl<'r> Segment<'r> {
         let poses = self.poses(cache, node, mid);
         let oa = &self.robot.objects[pair.a];
         let pa = poses[oa.body];
-        let grow_a = self.paths[pair.a].max_speed() * half;
+        let grow_a = speeds.0 * half;
         let (mb, pb, grow_b) = if pair.obstacle {
             let o = &self.scene.obstacles[pair.b];
             (&o.mesh, o.pose, 0.0)
         } else {
             let ob = &self.robot.objects[pair.b];
-            (
-                &ob.mesh,
-                poses[ob.body],
-                self.paths[pair.b].max_speed() * half,
-            )
+            (&ob.mesh, poses[ob.body], speeds.1 * half)
         };
         let reach = grow_a + grow_b + self.delta;
         let (ra, rb) = (oa.mesh.bvh().root(), mb.bvh().root());
@@ -307,8 +309,8 @@ impl<'r> Segment<'r> {
             }
             return;
         }
-        self.spans(pair, cache, 2 * node, level + 1, ta, mid, out);
-        self.spans(pair, cache, 2 * node + 1, level + 1, mid, tb, out);
+        self.spans(pair, speeds, cache, 2 * node, level + 1, ta, mid, out);
+        self.spans(pair, speeds, cache, 2 * node + 1, level + 1, mid, tb, out);
     }
 
     /// Every pair with the spans where its swept volumes may meet, earliest span first.
@@ -334,11 +336,32 @@ impl<'r> Segment<'r> {
             }));
         for pair in pairs {
             spans.clear();
-            self.spans(pair, &mut cache, 1, 0, 0.0, 1.0, &mut spans);
+            // Two links' distance changes only by their motion relative to the deepest body
+            // both hang from: the joints they share move both alike (module docs).
+            let speeds = if pair.obstacle {
+                (self.paths[pair.a].max_speed(), 0.0)
+            } else {
+                let common = self.common_joints(pair);
+                (
+                    self.paths[pair.a].max_speed_after(common),
+                    self.paths[pair.b].max_speed_after(common),
+                )
+            };
+            self.spans(pair, speeds, &mut cache, 1, 0, 0.0, 1.0, &mut spans);
             out.extend(spans.iter().map(|&(a, b)| (a, b, pair)));
         }
         out.sort_by(|x, y| x.0.total_cmp(&y.0));
         out
+    }
+
+    /// How many joints, from the root, two robot objects' chains share.
+    fn common_joints(&self, pair: Pair) -> usize {
+        let (oa, ob) = (&self.robot.objects[pair.a], &self.robot.objects[pair.b]);
+        let (ca, cb) = (
+            &self.robot.bodies[oa.body].chain,
+            &self.robot.bodies[ob.body].chain,
+        );
+        ca.iter().zip(cb).take_while(|(x, y)| x == y).count()
     }
 
     /// The pair's two paths: for two robot objects, relative to the deepest body both hang
@@ -348,16 +371,12 @@ impl<'r> Segment<'r> {
         if pair.obstacle {
             return (None, 0);
         }
-        let (oa, ob) = (&self.robot.objects[pair.a], &self.robot.objects[pair.b]);
-        let (ca, cb) = (
-            &self.robot.bodies[oa.body].chain,
-            &self.robot.bodies[ob.body].chain,
-        );
-        let common = ca.iter().zip(cb).take_while(|(x, y)| x == y).count();
+        let common = self.common_joints(pair);
         if common == 0 {
             return (None, 0);
         }
-        let ancestor = self.robot.joints[ca[common - 1]].child;
+        let chain = &self.robot.bodies[self.robot.objects[pair.a].body].chain;
+        let ancestor = self.robot.joints[chain[common - 1]].child;
         (
             Some((
                 self.robot.object_path(pair.a, &self.v0, &self.v1, common),
