@@ -10,7 +10,7 @@ use crate::pool;
 use numpy::{PyArray1, PyArray3, PyArrayMethods};
 use pyo3::prelude::*;
 use std::path::PathBuf;
-use std::sync::Arc;
+use std::sync::{Arc, RwLock};
 use tocsin::robot::query as rq;
 use tocsin::robot::{RobotOptions, Scene as CoreScene};
 use tocsin::{RobotError, Vec3};
@@ -38,9 +38,24 @@ pub(crate) fn robot_error(py: Python<'_>, e: RobotError) -> PyErr {
 ///
 /// Configurations are float arrays of shape (dof,) in the order of `joint_names` (the actuated
 /// joints as the URDF lists them, mimics excluded). Build one with Robot.from_urdf.
-#[pyclass(module = "tocsin._core")]
+#[pyclass(frozen, module = "tocsin._core")]
 pub(crate) struct Robot {
-    pub(crate) inner: Arc<tocsin::Robot>,
+    /// Queries take a snapshot (the `Arc`) and release the lock at once; edits copy on write,
+    /// so a query running in another thread keeps the robot it started with, and no borrow
+    /// error can reach Python.
+    inner: RwLock<Arc<tocsin::Robot>>,
+}
+
+/// Reads a snapshot out of a lock (a poisoned lock still holds a whole value: edits replace it
+/// only once they succeeded).
+fn snapshot<T>(lock: &RwLock<Arc<T>>) -> Arc<T> {
+    lock.read().unwrap_or_else(|p| p.into_inner()).clone()
+}
+
+/// Edits the value in a lock, copying it first if a query still holds the old one.
+fn edit<T: Clone, R>(lock: &RwLock<Arc<T>>, f: impl FnOnce(&mut T) -> R) -> R {
+    let mut guard = lock.write().unwrap_or_else(|p| p.into_inner());
+    f(Arc::make_mut(&mut guard))
 }
 
 /// A configuration array of shape (dof,).
@@ -90,7 +105,7 @@ fn options(
 }
 
 fn scene_of(scene: Option<&Scene>) -> Arc<CoreScene> {
-    scene.map_or_else(|| Arc::new(CoreScene::new()), |s| s.inner.clone())
+    scene.map_or_else(|| Arc::new(CoreScene::new()), |s| snapshot(&s.inner))
 }
 
 #[pymethods]
@@ -121,7 +136,7 @@ impl Robot {
             })
             .map_err(|e| robot_error(py, e))?;
         Ok(Self {
-            inner: Arc::new(robot),
+            inner: RwLock::new(Arc::new(robot)),
         })
     }
 
@@ -138,30 +153,24 @@ impl Robot {
             .detach(|| tocsin::Robot::from_urdf_str(xml, base_dir.as_deref(), &package_dirs))
             .map_err(|e| robot_error(py, e))?;
         Ok(Self {
-            inner: Arc::new(robot),
+            inner: RwLock::new(Arc::new(robot)),
         })
     }
 
     /// Allows the link pairs an SRDF file disables (<disable_collisions>); returns how many
     /// collision-object pairs that removed from the checks.
-    fn apply_srdf(&mut self, py: Python<'_>, path: PathBuf) -> PyResult<usize> {
-        Arc::make_mut(&mut self.inner)
-            .apply_srdf_file(&path)
-            .map_err(|e| robot_error(py, e))
+    fn apply_srdf(&self, py: Python<'_>, path: PathBuf) -> PyResult<usize> {
+        edit(&self.inner, |r| r.apply_srdf_file(&path)).map_err(|e| robot_error(py, e))
     }
 
     /// As apply_srdf, from SRDF text.
-    fn apply_srdf_string(&mut self, py: Python<'_>, xml: &str) -> PyResult<usize> {
-        Arc::make_mut(&mut self.inner)
-            .apply_srdf_str(xml)
-            .map_err(|e| robot_error(py, e))
+    fn apply_srdf_string(&self, py: Python<'_>, xml: &str) -> PyResult<usize> {
+        edit(&self.inner, |r| r.apply_srdf_str(xml)).map_err(|e| robot_error(py, e))
     }
 
     /// Allows two links (or attached objects) to touch: their pair is not checked.
-    fn allow_collision(&mut self, py: Python<'_>, link1: &str, link2: &str) -> PyResult<()> {
-        Arc::make_mut(&mut self.inner)
-            .allow_collision(link1, link2)
-            .map_err(|e| robot_error(py, e))
+    fn allow_collision(&self, py: Python<'_>, link1: &str, link2: &str) -> PyResult<()> {
+        edit(&self.inner, |r| r.allow_collision(link1, link2)).map_err(|e| robot_error(py, e))
     }
 
     /// Attaches `mesh` to `link` (a grasped part): `pose` (4x4) places the mesh in the link's
@@ -169,7 +178,7 @@ impl Robot {
     /// link and every obstacle is checked against it.
     #[pyo3(signature = (name, mesh, link, pose=None, touch_links=Vec::new()))]
     fn attach(
-        &mut self,
+        &self,
         py: Python<'_>,
         name: &str,
         mesh: &Mesh,
@@ -182,52 +191,51 @@ impl Robot {
             None => tocsin::Pose::IDENTITY,
         };
         let touch: Vec<&str> = touch_links.iter().map(String::as_str).collect();
-        Arc::make_mut(&mut self.inner)
-            .attach(name, &mesh.inner, link, &pose, &touch)
-            .map_err(|e| robot_error(py, e))
+        edit(&self.inner, |r| {
+            r.attach(name, &mesh.inner, link, &pose, &touch)
+        })
+        .map_err(|e| robot_error(py, e))
     }
 
     /// Removes an attached object.
-    fn detach(&mut self, py: Python<'_>, name: &str) -> PyResult<()> {
-        Arc::make_mut(&mut self.inner)
-            .detach(name)
-            .map_err(|e| robot_error(py, e))
+    fn detach(&self, py: Python<'_>, name: &str) -> PyResult<()> {
+        edit(&self.inner, |r| r.detach(name)).map_err(|e| robot_error(py, e))
     }
 
     /// The robot's name (from the URDF).
     #[getter]
     fn name(&self) -> String {
-        self.inner.name().to_string()
+        snapshot(&self.inner).name().to_string()
     }
 
     /// Number of configuration entries.
     #[getter]
     fn dof(&self) -> usize {
-        self.inner.dof()
+        snapshot(&self.inner).dof()
     }
 
     /// Names of the configuration entries, in order.
     #[getter]
     fn joint_names(&self) -> Vec<String> {
-        self.inner.joint_names().to_vec()
+        snapshot(&self.inner).joint_names().to_vec()
     }
 
     /// Joint limits, shape (dof, 2): lower and upper (infinite for continuous joints).
     #[getter]
     fn joint_limits<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, numpy::PyArray2<f64>>> {
-        let flat: Vec<f64> = self
-            .inner
+        let robot = snapshot(&self.inner);
+        let flat: Vec<f64> = robot
             .joint_limits()
             .iter()
             .flat_map(|(a, b)| [*a, *b])
             .collect();
-        PyArray1::from_vec(py, flat).reshape([self.inner.dof(), 2])
+        PyArray1::from_vec(py, flat).reshape([robot.dof(), 2])
     }
 
     /// Every URDF link's name, in the order of link_poses.
     #[getter]
     fn link_names(&self) -> Vec<String> {
-        self.inner
+        snapshot(&self.inner)
             .link_names()
             .iter()
             .map(|s| s.to_string())
@@ -237,7 +245,7 @@ impl Robot {
     /// Names of the collision objects (links with geometry, attached objects).
     #[getter]
     fn object_names(&self) -> Vec<String> {
-        self.inner
+        snapshot(&self.inner)
             .objects()
             .iter()
             .map(|o| o.name.clone())
@@ -247,8 +255,9 @@ impl Robot {
     /// The object name pairs checked for self-collision.
     #[getter]
     fn self_pairs(&self) -> Vec<(String, String)> {
-        let o = self.inner.objects();
-        self.inner
+        let robot = snapshot(&self.inner);
+        let o = robot.objects();
+        robot
             .self_pairs()
             .iter()
             .map(|&(i, j)| (o[i].name.clone(), o[j].name.clone()))
@@ -258,20 +267,20 @@ impl Robot {
     /// The root link's world pose (4x4); settable.
     #[getter]
     fn get_base<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, numpy::PyArray2<f64>>> {
-        pose_to_numpy(py, &self.inner.base())
+        pose_to_numpy(py, &snapshot(&self.inner).base())
     }
 
     #[setter]
-    fn set_base(&mut self, pose: &Bound<'_, PyAny>) -> PyResult<()> {
+    fn set_base(&self, pose: &Bound<'_, PyAny>) -> PyResult<()> {
         let p = pose_from(pose, "base")?;
-        Arc::make_mut(&mut self.inner).set_base(p);
+        edit(&self.inner, |r| r.set_base(p));
         Ok(())
     }
 
     /// The collision mesh of an object (vertices in its body's frame: the frame of the link
     /// at the head of its merged body).
     fn object_mesh(&self, py: Python<'_>, name: &str) -> PyResult<Mesh> {
-        self.inner
+        snapshot(&self.inner)
             .objects()
             .iter()
             .find(|o| o.name == name)
@@ -302,7 +311,7 @@ impl Robot {
     /// Whether q lies within the joint limits (inclusive, with `tolerance`).
     #[pyo3(signature = (q, tolerance=0.0))]
     fn within_limits(&self, q: &Bound<'_, PyAny>, tolerance: f64) -> PyResult<bool> {
-        Ok(self.inner.within_limits(&config(q, "q")?, tolerance))
+        Ok(snapshot(&self.inner).within_limits(&config(q, "q")?, tolerance))
     }
 
     /// First time of contact along the straight joint-space segment q(t) = q0 + t (q1 - q0),
@@ -323,7 +332,7 @@ impl Robot {
     ) -> PyResult<Option<RobotContact>> {
         let (a, b) = (config(q0, "q0")?, config(q1, "q1")?);
         let opts = options(py, tolerance, max_iterations)?;
-        let (robot, scene) = (self.inner.clone(), scene_of(scene));
+        let (robot, scene) = (snapshot(&self.inner), scene_of(scene));
         let r = py
             .detach(|| rq::time_of_contact(&robot, &a, &b, &scene, &opts))
             .map_err(|e| robot_error(py, e))?;
@@ -346,7 +355,7 @@ impl Robot {
     ) -> PyResult<bool> {
         let (a, b) = (config(q0, "q0")?, config(q1, "q1")?);
         let opts = options(py, tolerance, max_iterations)?;
-        let (robot, scene) = (self.inner.clone(), scene_of(scene));
+        let (robot, scene) = (snapshot(&self.inner), scene_of(scene));
         py.detach(|| rq::path_is_free(&robot, &a, &b, &scene, &opts))
             .map_err(|e| robot_error(py, e))
     }
@@ -360,7 +369,7 @@ impl Robot {
         scene: Option<&Scene>,
     ) -> PyResult<bool> {
         let q = config(q, "q")?;
-        let (robot, scene) = (self.inner.clone(), scene_of(scene));
+        let (robot, scene) = (snapshot(&self.inner), scene_of(scene));
         py.detach(|| rq::in_collision(&robot, &q, &scene))
             .map_err(|e| robot_error(py, e))
     }
@@ -373,8 +382,8 @@ impl Robot {
         qs: &Bound<'py, PyAny>,
         scene: Option<&Scene>,
     ) -> PyResult<Bound<'py, PyArray1<bool>>> {
-        let qs = configs(qs, self.inner.dof(), "configurations")?;
-        let (robot, scene) = (self.inner.clone(), scene_of(scene));
+        let qs = configs(qs, snapshot(&self.inner).dof(), "configurations")?;
+        let (robot, scene) = (snapshot(&self.inner), scene_of(scene));
         let r = pool::run(py, || rq::check_configurations(&robot, &qs, &scene))?
             .map_err(|e| robot_error(py, e))?;
         Ok(PyArray1::from_vec(py, r))
@@ -395,7 +404,7 @@ impl Robot {
     ) -> PyResult<Bound<'py, PyArray1<bool>>> {
         let segments = self.segments(q0s, q1s)?;
         let opts = options(py, tolerance, max_iterations)?;
-        let (robot, scene) = (self.inner.clone(), scene_of(scene));
+        let (robot, scene) = (snapshot(&self.inner), scene_of(scene));
         let r = pool::run(py, || {
             rq::path_is_free_batch(&robot, &segments, &scene, &opts)
         })?
@@ -424,7 +433,7 @@ impl Robot {
     ) -> PyResult<Vec<Option<RobotContact>>> {
         let segments = self.segments(q0s, q1s)?;
         let opts = options(py, tolerance, max_iterations)?;
-        let (robot, scene) = (self.inner.clone(), scene_of(scene));
+        let (robot, scene) = (snapshot(&self.inner), scene_of(scene));
         let r = pool::run(py, || {
             rq::time_of_contact_batch(&robot, &segments, &scene, &opts)
         })?
@@ -441,12 +450,13 @@ impl Robot {
     }
 
     fn __repr__(&self) -> String {
+        let robot = snapshot(&self.inner);
         format!(
             "Robot(name={:?}, dof={}, objects={}, self_pairs={})",
-            self.inner.name(),
-            self.inner.dof(),
-            self.inner.objects().len(),
-            self.inner.self_pairs().len()
+            robot.name(),
+            robot.dof(),
+            robot.objects().len(),
+            robot.self_pairs().len()
         )
     }
 }
@@ -460,9 +470,9 @@ impl Robot {
     ) -> PyResult<Bound<'py, PyArray3<f64>>> {
         let q = config(q, "q")?;
         let poses = if objects {
-            self.inner.object_poses(&q)
+            snapshot(&self.inner).object_poses(&q)
         } else {
-            self.inner.link_poses(&q)
+            snapshot(&self.inner).link_poses(&q)
         }
         .map_err(|e| robot_error(py, e))?;
         let n = poses.len();
@@ -478,7 +488,7 @@ impl Robot {
         q0s: &Bound<'_, PyAny>,
         q1s: &Bound<'_, PyAny>,
     ) -> PyResult<Vec<(Vec<f64>, Vec<f64>)>> {
-        let dof = self.inner.dof();
+        let dof = snapshot(&self.inner).dof();
         let (a, b) = (configs(q0s, dof, "q0s")?, configs(q1s, dof, "q1s")?);
         if a.len() != b.len() {
             return Err(error(
@@ -493,9 +503,10 @@ impl Robot {
 
 /// Static obstacles for the robot queries: named meshes at world poses. Scene() is empty;
 /// add obstacles with add(name, mesh, pose).
-#[pyclass(module = "tocsin._core")]
+#[pyclass(frozen, module = "tocsin._core")]
 pub(crate) struct Scene {
-    inner: Arc<CoreScene>,
+    /// As `Robot::inner`.
+    inner: RwLock<Arc<CoreScene>>,
 }
 
 #[pymethods]
@@ -503,25 +514,25 @@ impl Scene {
     #[new]
     fn new() -> Self {
         Self {
-            inner: Arc::new(CoreScene::new()),
+            inner: RwLock::new(Arc::new(CoreScene::new())),
         }
     }
 
     /// Adds an obstacle: `mesh` placed by `pose` (4x4, body to world; identity by default).
     #[pyo3(signature = (name, mesh, pose=None))]
-    fn add(&mut self, name: &str, mesh: &Mesh, pose: Option<&Bound<'_, PyAny>>) -> PyResult<()> {
+    fn add(&self, name: &str, mesh: &Mesh, pose: Option<&Bound<'_, PyAny>>) -> PyResult<()> {
         let pose = match pose {
             Some(p) => pose_from(p, "pose")?,
             None => tocsin::Pose::IDENTITY,
         };
-        Arc::make_mut(&mut self.inner).add(name, mesh.inner.clone(), pose);
+        edit(&self.inner, |r| r.add(name, mesh.inner.clone(), pose));
         Ok(())
     }
 
     /// The obstacles' names, in the order added.
     #[getter]
     fn names(&self) -> Vec<String> {
-        self.inner
+        snapshot(&self.inner)
             .obstacles()
             .iter()
             .map(|o| o.name.clone())
@@ -529,11 +540,14 @@ impl Scene {
     }
 
     fn __len__(&self) -> usize {
-        self.inner.obstacles().len()
+        snapshot(&self.inner).obstacles().len()
     }
 
     fn __repr__(&self) -> String {
-        format!("Scene({} obstacles)", self.inner.obstacles().len())
+        format!(
+            "Scene({} obstacles)",
+            snapshot(&self.inner).obstacles().len()
+        )
     }
 }
 

@@ -221,3 +221,43 @@ def test_ompl_rrt_connect_with_the_exact_motion_validator():
     )
     assert out.returncode == 0, out.stderr[-3000:]
     assert "every edge of the path is free: True" in out.stdout, out.stdout
+
+
+def test_threads_query_while_another_edits_and_the_base_moves_the_robot():
+    import threading
+
+    robot = tocsin.Robot.from_urdf(PANDA)
+    scene, _ = box_scene(np.random.default_rng(4), 4)
+    q0 = np.array([0.0, 0.3, 0.0, -2.0, 0.0, 2.4, 0.8, 0.04])
+    q1 = q0 + 0.5
+    expected = robot.path_is_free(q0, q1, scene)
+    errors, results = [], []
+
+    def query():
+        try:
+            for _ in range(30):
+                results.append(robot.path_is_free(q0, q1, scene))
+        except Exception as e:  # any error here is a failure, reported below
+            errors.append(e)
+
+    def edit():
+        try:
+            for k in range(30):
+                robot.allow_collision("panda_link0", "panda_link5")
+                scene.add(f"far{k}", tocsin.Mesh.box([0.01] * 3), np.diag([1.0, 1.0, 1.0, 1.0]) + np.eye(4, k=3) * 50)
+        except Exception as e:
+            errors.append(e)
+
+    threads = [threading.Thread(target=query) for _ in range(3)] + [threading.Thread(target=edit)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert not errors, errors
+    assert results == [expected] * 90  # far obstacles and an allowed pair do not change it
+    base = np.eye(4)
+    base[:3, 3] = [1.0, 2.0, 3.0]
+    before = robot.link_poses(q0)
+    robot.base = base
+    np.testing.assert_allclose(robot.base, base)
+    np.testing.assert_allclose(robot.link_poses(q0)[:, :3, 3], before[:, :3, 3] + [1.0, 2.0, 3.0], atol=1e-12)
