@@ -180,7 +180,7 @@ def plan(robot, q_start, q_goal, valid, motion_free, timeout):
     dof = robot.dof
     space = ob.RealVectorStateSpace(dof)
     bounds = ob.RealVectorBounds(dof)
-    limits = robot.joint_limits
+    limits = np.clip(robot.joint_limits, -np.pi, np.pi)  # continuous joints: one turn
     for i in range(dof):
         bounds.setLow(i, float(limits[i, 0]))
         bounds.setHigh(i, float(limits[i, 1]))
@@ -215,20 +215,41 @@ def plan(robot, q_start, q_goal, valid, motion_free, timeout):
 
 
 def plans(args):
-    """Per scenario (Panda): RRT-Connect plans start -> goal, tocsin (exact motion validator)
-    beside Pinocchio + coal (OMPL's discrete validator at 1%); every plan's edges re-checked by
-    tocsin's exact segment check."""
+    """Per scenario: RRT-Connect plans start -> goal, tocsin (exact motion validator) beside
+    Pinocchio + coal (OMPL's discrete validator at 1%); every plan's edges re-checked by tocsin's
+    exact segment check, and the edges it rejects by coal at 20,001 states."""
     import ompl.util as ou
 
     ou.setLogLevel(ou.LOG_NONE)
     resources = vamp_resources()
-    base = resources / "panda"
-    ours = Tocsin(base / "panda.urdf", base / "panda.srdf")
-    robot = ours.robot
-    theirs = Pinocchio(base / "panda.urdf", robot=robot)
     rows = []
-    for scenario, items in sorted(problems(resources, "panda", args.plans).items()):
-        row = {"scenario": scenario, "t": [], "p": [], "t_ok": 0, "p_ok": 0, "p_bad": 0, "p_confirmed": 0}
+    for robot_name in args.plan_robots.split(","):
+        rows += plans_for(args, resources, robot_name)
+    lines = [
+        "",
+        f"RRT-Connect through OMPL, {args.plans} problems per scenario, timeout {args.plan_timeout} s; "
+        "median seconds per plan (solved / tried); plans whose edges tocsin finds in collision.",
+        "",
+        "| robot | scenario | tocsin (exact validator) | pin+coal (OMPL discrete, 1%) | pin+coal plans tocsin rejects (confirmed by coal at 20,001 states per edge) |",
+        "|---|---|---:|---:|---:|",
+    ]
+    for r in rows:
+        n = len(r["t"])
+        lines.append(
+            f"| {r['robot']} | {r['scenario']} | {statistics.median(r['t']):.3f} ({r['t_ok']}/{n}) | "
+            f"{statistics.median(r['p']):.3f} ({r['p_ok']}/{n}) | {r['p_bad']} ({r['p_confirmed']}) |"
+        )
+    return "\n".join(lines)
+
+
+def plans_for(args, resources, robot_name):
+    base = resources / robot_name
+    ours = Tocsin(base / f"{robot_name}.urdf", base / f"{robot_name}.srdf")
+    robot = ours.robot
+    theirs = Pinocchio(base / f"{robot_name}.urdf", robot=robot)
+    rows = []
+    for scenario, items in sorted(problems(resources, robot_name, args.plans).items()):
+        row = {"robot": robot_name, "scenario": scenario, "t": [], "p": [], "t_ok": 0, "p_ok": 0, "p_bad": 0, "p_confirmed": 0}
         for scene_yaml, request in items:
             scene = ours.scene(scene_yaml)
             geom = theirs.scene(scene_yaml)
@@ -260,21 +281,7 @@ def plans(args):
                     )
         rows.append(row)
         print(json.dumps({k: v for k, v in row.items()}))
-    lines = [
-        "",
-        f"RRT-Connect through OMPL {args.plans} problems per Panda scenario, timeout {args.plan_timeout} s; "
-        "median seconds per plan (solved / tried); plans whose edges tocsin finds in collision.",
-        "",
-        "| scenario | tocsin (exact validator) | pin+coal (OMPL discrete, 1%) | pin+coal plans tocsin rejects (confirmed by coal at 20,001 states per edge) |",
-        "|---|---:|---:|---:|",
-    ]
-    for r in rows:
-        n = len(r["t"])
-        lines.append(
-            f"| {r['scenario']} | {statistics.median(r['t']):.3f} ({r['t_ok']}/{n}) | "
-            f"{statistics.median(r['p']):.3f} ({r['p_ok']}/{n}) | {r['p_bad']} ({r['p_confirmed']}) |"
-        )
-    return "\n".join(lines)
+    return rows
 
 
 def percentile(values, p):
@@ -296,7 +303,9 @@ def run(args):
         robot = ours.robot
         limits = robot.joint_limits
         lo, hi = limits[:, 0], limits[:, 1]
-        extent = float(np.linalg.norm(hi - lo))
+        # A continuous joint has infinite limits; a planner bounds it to one turn.
+        span = np.where(np.isfinite(hi - lo), hi - lo, 2 * np.pi)
+        extent = float(np.linalg.norm(span))
         assert theirs.model.nq == robot.dof, (theirs.model.nq, robot.dof)
         for scenario, items in sorted(problems(resources, robot_name, args.problems).items()):
             stats = {k: [] for k in ("t_free", "t_coll", "p_free", "p_coll", "t_cfg", "p_cfg", "t_goal", "p_goal")}
@@ -390,6 +399,7 @@ def main():
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument("--plans", type=int, default=0, help="RRT-Connect plans per Panda scenario")
     parser.add_argument("--plan-timeout", type=float, default=10.0)
+    parser.add_argument("--plan-robots", default="panda,ur5,fetch")
     parser.add_argument("--out")
     args = parser.parse_args()
     text = table(run(args), args) if args.problems > 0 else ""
