@@ -342,7 +342,7 @@ impl Robot {
     /// Whether the segment q0 -> q1 is free (the question OMPL's checkMotion asks): True when
     /// every checked pair stays farther apart than the tolerance, False as soon as one is
     /// known to come within tolerance / 2 (it stops there); the same answer as
-    /// `time_of_contact(...) is None`. For the last free time, use time_of_contact.
+    /// `time_of_contact(...) is None`. For the last free time, use last_valid.
     #[pyo3(signature = (q0, q1, scene=None, tolerance=None, max_iterations=None))]
     fn path_is_free(
         &self,
@@ -358,6 +358,32 @@ impl Robot {
         let (robot, scene) = (snapshot(&self.inner), scene_of(scene));
         py.detach(|| rq::path_is_free(&robot, &a, &b, &scene, &opts))
             .map_err(|e| robot_error(py, e))
+    }
+
+    /// The last time of the segment q0 -> q1 known free (what OMPL's checkMotion(s1, s2,
+    /// lastValid) reports): 1.0 when path_is_free, else the time of contact, before which
+    /// every checked pair stays farther apart than tolerance / 2. A free segment costs one
+    /// path_is_free; a blocked one also a time_of_contact.
+    #[pyo3(signature = (q0, q1, scene=None, tolerance=None, max_iterations=None))]
+    fn last_valid(
+        &self,
+        py: Python<'_>,
+        q0: &Bound<'_, PyAny>,
+        q1: &Bound<'_, PyAny>,
+        scene: Option<&Scene>,
+        tolerance: Option<f64>,
+        max_iterations: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<f64> {
+        let (a, b) = (config(q0, "q0")?, config(q1, "q1")?);
+        let opts = options(py, tolerance, max_iterations)?;
+        let (robot, scene) = (snapshot(&self.inner), scene_of(scene));
+        py.detach(|| -> Result<f64, RobotError> {
+            if rq::path_is_free(&robot, &a, &b, &scene, &opts)? {
+                return Ok(1.0);
+            }
+            Ok(rq::time_of_contact(&robot, &a, &b, &scene, &opts)?.map_or(1.0, |c| c.time))
+        })
+        .map_err(|e| robot_error(py, e))
     }
 
     /// Whether the robot at q collides with itself or the scene (exact; touching counts).

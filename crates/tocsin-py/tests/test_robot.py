@@ -116,6 +116,7 @@ def test_segments_against_dense_sampling(urdf, srdf):
         checked += 1
         got = robot.time_of_contact(q0, q1, scene)
         assert robot.path_is_free(q0, q1, scene) == (got is None)
+        assert robot.last_valid(q0, q1, scene) == (1.0 if got is None else got.time)
         first = first_sampled_collision(robot, q0, q1, scene)
         if got is None:
             assert first is None, f"missed a collision at t = {first}"

@@ -353,6 +353,15 @@ class Robot:
         max_iterations: Optional[int] = None,
     ) -> bool:
         """Whether the segment q0 -> q1 is free (exact; stops as soon as it is known)."""
+    def last_valid(
+        self,
+        q0: ArrayLike,
+        q1: ArrayLike,
+        scene: Optional[Scene] = None,
+        tolerance: Optional[float] = None,
+        max_iterations: Optional[int] = None,
+    ) -> float:
+        """The last time of q0 -> q1 known free: 1.0 when free, else the time of contact."""
     def in_collision(self, q: ArrayLike, scene: Optional[Scene] = None) -> bool:
         """Whether the robot at q collides with itself or the scene."""
     def check_configurations(self, qs: ArrayLike, scene: Optional[Scene] = None) -> npt.NDArray[np.bool_]:
