@@ -2,7 +2,7 @@
 //! the package's own exception classes (defined in `tocsin/_errors.py`). No geometry here.
 //!
 //! One file per concern: `convert` (arrays and poses), `errors`, `pool` (the fork-safe thread
-//! pool), `mesh`, `queries` (static queries), `motion`, `contact` (time of contact), `batch`, `robot` (robots, scenes, segment checks).
+//! pool), `mesh`, `queries` (static queries), `motion`, `contact` (time of contact), `batch`, `robot` (robots, scenes, segment checks), `penetration` (winding number).
 
 mod batch;
 mod contact;
@@ -10,6 +10,7 @@ mod convert;
 mod errors;
 mod mesh;
 mod motion;
+mod penetration;
 mod pool;
 mod queries;
 mod robot;
@@ -34,6 +35,8 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(batch::_distance_batch, m)?)?;
     m.add_function(wrap_pyfunction!(batch::_collide_batch, m)?)?;
     m.add_function(wrap_pyfunction!(batch::_time_of_contact_batch, m)?)?;
+    m.add_function(wrap_pyfunction!(penetration::winding_number, m)?)?;
+    m.add_function(wrap_pyfunction!(penetration::contains, m)?)?;
     m.add_class::<robot::Robot>()?;
     m.add_class::<robot::Scene>()?;
     m.add_class::<robot::RobotContact>()?;

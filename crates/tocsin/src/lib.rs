@@ -33,6 +33,7 @@ pub use query::distance::{
     distance, distance_batch, distance_with_cache, within_distance, DistanceCache, DistanceOptions,
     DistanceResult,
 };
+pub use query::penetration::{contains, winding_number, WindingOptions};
 pub use robot::{Robot, RobotError};
 
 /// The README's Rust quickstart, compiled and run as a doctest.

@@ -22,9 +22,11 @@ from ._core import (
     Scene,
     collide,
     collide_pairs,
+    contains,
     distance,
     motion_is_free,
     orthonormalize,
+    winding_number,
     within_distance,
 )
 from ._core import time_of_contact as _rigid_time_of_contact
@@ -85,6 +87,8 @@ __all__ = [
     "RobotFileError",
     "Scene",
     "check_configurations",
+    "contains",
+    "winding_number",
     "path_is_free",
     "ContactBatch",
     "ContactResult",

@@ -23,10 +23,12 @@ __all__ = [
     "_time_of_contact_batch",
     "collide",
     "collide_pairs",
+    "contains",
     "distance",
     "motion_is_free",
     "orthonormalize",
     "time_of_contact",
+    "winding_number",
     "within_distance",
 ]
 
@@ -431,3 +433,11 @@ class RobotContact:
     @property
     def status(self) -> Literal["converged", "started_in_contact"]:
         """'converged' or 'started_in_contact'."""
+
+def winding_number(
+    mesh: Mesh, pose: ArrayLike, points: ArrayLike, beta: float = 2.0, exact: bool = False
+) -> npt.NDArray[np.float64]:
+    """Generalized winding number of the placed mesh at each world point (N, 3)."""
+
+def contains(mesh: Mesh, pose: ArrayLike, points: ArrayLike) -> npt.NDArray[np.bool_]:
+    """Whether each world point (N, 3) is inside the placed mesh (winding number above 1/2)."""

@@ -24,6 +24,8 @@ pub struct TriMesh {
     vertices: Vec<Vec3>,
     triangles: Vec<[u32; 3]>,
     bvh: Bvh,
+    /// The winding number's far-field data per node, built on first use.
+    winding: std::sync::OnceLock<Vec<crate::query::penetration::winding::Cluster>>,
 }
 
 impl TriMesh {
@@ -37,6 +39,7 @@ impl TriMesh {
             vertices,
             triangles,
             bvh,
+            winding: std::sync::OnceLock::new(),
         })
     }
 
@@ -56,6 +59,7 @@ impl TriMesh {
             vertices: verts,
             triangles,
             bvh,
+            winding: std::sync::OnceLock::new(),
         })
     }
 
@@ -68,6 +72,12 @@ impl TriMesh {
             path: path.to_path_buf(),
             source: Box::new(e),
         })
+    }
+
+    /// The far-field data of the winding number (built on first use, then kept).
+    pub(crate) fn winding_clusters(&self) -> &[crate::query::penetration::winding::Cluster] {
+        self.winding
+            .get_or_init(|| crate::query::penetration::winding::clusters(self))
     }
 
     /// The vertices and triangles of an OBJ, STL or PLY file, without building a mesh.

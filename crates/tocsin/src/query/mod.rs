@@ -4,3 +4,4 @@
 pub mod collide;
 pub mod contact_time;
 pub mod distance;
+pub mod penetration;

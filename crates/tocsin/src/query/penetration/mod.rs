@@ -1,0 +1,14 @@
+//! Penetration: what lies inside a polygon soup. So far the generalized winding number and the
+//! inside test built on it ([`winding`]); penetration depth (PolyDepth), pointwise depth and
+//! the Hausdorff distance are not built yet.
+//!
+//! How this relates to the rest of the library: `distance` and `collide` keep treating a soup
+//! as a surface with no inside (one closed mesh strictly inside another is apart from it).
+//! Penetration is a separate question that needs an inside, and it uses the winding number's:
+//! a point is inside where the generalized winding number exceeds 1/2, which is the usual
+//! inside for closed, consistently oriented meshes, degrades gracefully on soups with holes,
+//! duplicated or flipped triangles, and is negative (outside) for inside-out meshes.
+
+pub mod winding;
+
+pub use winding::{contains, winding_number, WindingOptions};
