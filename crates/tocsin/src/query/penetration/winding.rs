@@ -137,7 +137,7 @@ fn evaluate(mesh: &TriMesh, clusters: &[Cluster], p: Vec3, beta: f64) -> f64 {
 }
 
 fn check(options: &WindingOptions) -> Result<(), OptionsError> {
-    if !(options.beta >= 1.0) {
+    if options.beta.is_nan() || options.beta < 1.0 {
         return Err(OptionsError::OutOfRange {
             name: "beta",
             requirement: "must be at least 1 (infinite for the exact sum)",
