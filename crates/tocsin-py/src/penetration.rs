@@ -1,6 +1,7 @@
-//! Inside and outside of a polygon soup: `winding_number` and `contains`.
+//! Inside and outside of a polygon soup (`winding_number`, `contains`) and the Hausdorff
+//! distance between two (`hausdorff_distance`, `HausdorffResult`).
 
-use crate::convert::{as_array, pose_from};
+use crate::convert::{as_array, pose_from, vec3};
 use crate::errors::options_error;
 use crate::mesh::Mesh;
 use crate::pool;
@@ -60,4 +61,81 @@ pub(crate) fn contains<'py>(
     let m = mesh.inner.clone();
     let inside = pool::run(py, || tocsin::contains(&m, &pose, &pts))?;
     Ok(PyArray1::from_vec(py, inside))
+}
+
+/// The Hausdorff distance found, within the error bound, and where.
+#[pyclass(frozen, module = "tocsin._core")]
+pub(crate) struct HausdorffResult {
+    /// A value attained by a surface point: at most the true distance, at least it minus
+    /// max_error.
+    #[pyo3(get)]
+    distance: f64,
+    /// An upper bound on the true distance (upper_bound - distance <= max_error).
+    #[pyo3(get)]
+    upper_bound: f64,
+    /// Whether point1 is on mesh1 (False: the symmetric distance is realised from mesh2).
+    #[pyo3(get)]
+    from_first: bool,
+    p1: Vec3,
+    p2: Vec3,
+}
+
+#[pymethods]
+impl HausdorffResult {
+    /// The point realising `distance`, on the mesh it is measured from, world frame, (3,).
+    #[getter]
+    fn point1<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        vec3(py, self.p1)
+    }
+
+    /// Its closest point on the other mesh, world frame, (3,).
+    #[getter]
+    fn point2<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        vec3(py, self.p2)
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "HausdorffResult(distance={}, upper_bound={}, from_first={})",
+            self.distance,
+            self.upper_bound,
+            if self.from_first { "True" } else { "False" }
+        )
+    }
+}
+
+/// The Hausdorff distance between the surfaces of mesh1 and mesh2 (placed by 4x4 poses):
+/// one-sided from mesh1 (max over points a of mesh1 of their distance to mesh2), or with
+/// symmetric=True the larger of both directions; exact within max_error (model units, > 0;
+/// default 1e-4 of the smaller bounding radius). Returns a HausdorffResult with the attained
+/// value, an upper bound and the witness points. The GIL is released.
+#[pyfunction]
+#[pyo3(signature = (mesh1, pose1, mesh2, pose2, max_error=None, symmetric=false))]
+pub(crate) fn hausdorff_distance(
+    py: Python<'_>,
+    mesh1: &Mesh,
+    pose1: &Bound<'_, PyAny>,
+    mesh2: &Mesh,
+    pose2: &Bound<'_, PyAny>,
+    max_error: Option<f64>,
+    symmetric: bool,
+) -> PyResult<HausdorffResult> {
+    let (p1, p2) = (pose_from(pose1, "pose1")?, pose_from(pose2, "pose2")?);
+    let (m1, m2) = (mesh1.inner.clone(), mesh2.inner.clone());
+    let e = max_error.unwrap_or_else(|| {
+        1e-4 * m1
+            .bounding_radius()
+            .min(m2.bounding_radius())
+            .max(f64::MIN_POSITIVE)
+    });
+    let r = py
+        .detach(|| tocsin::hausdorff_distance(&m1, &p1, &m2, &p2, e, symmetric))
+        .map_err(|e| options_error(py, e))?;
+    Ok(HausdorffResult {
+        distance: r.distance,
+        upper_bound: r.upper_bound,
+        from_first: r.from_first,
+        p1: r.point1,
+        p2: r.point2,
+    })
 }

@@ -67,3 +67,19 @@ def test_bad_input_raises_the_packages_errors():
     with pytest.raises(tocsin.PoseError):
         tocsin.contains(box, np.eye(3), np.zeros((3, 3)))
     assert tocsin.contains(box, np.eye(4), np.zeros((0, 3))).shape == (0,)
+
+
+def test_hausdorff_of_offset_plates_and_a_sphere_in_a_bigger_one():
+    box = tocsin.Mesh.box([1.0, 1.0, 1.0])
+    moved = np.eye(4)
+    moved[:3, 3] = [0.0, 0.0, 0.25]
+    r = tocsin.hausdorff_distance(box, np.eye(4), box, moved, max_error=1e-9, symmetric=True)
+    assert abs(r.distance - 0.25) < 1e-9 and r.upper_bound - r.distance <= 1e-9
+    assert abs(np.linalg.norm(r.point2 - r.point1) - r.distance) < 1e-12
+    # A sphere of radius 1 inside a concentric one of radius 2: every point of the small one
+    # is about 1 from the big one (tessellation: chords within 2% of the radius).
+    small, big = tocsin.Mesh.sphere(1.0, 16, 32), tocsin.Mesh.sphere(2.0, 16, 32)
+    one = tocsin.hausdorff_distance(small, np.eye(4), big, np.eye(4), max_error=1e-4)
+    assert 0.95 < one.distance <= one.upper_bound < 1.01 and one.from_first
+    with pytest.raises(tocsin.OptionsError):
+        tocsin.hausdorff_distance(box, np.eye(4), box, moved, max_error=-1.0)

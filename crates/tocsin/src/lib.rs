@@ -33,7 +33,9 @@ pub use query::distance::{
     distance, distance_batch, distance_with_cache, within_distance, DistanceCache, DistanceOptions,
     DistanceResult,
 };
-pub use query::penetration::{contains, winding_number, WindingOptions};
+pub use query::penetration::{
+    contains, hausdorff_distance, winding_number, HausdorffResult, WindingOptions,
+};
 pub use robot::{Robot, RobotError};
 
 /// The README's Rust quickstart, compiled and run as a doctest.

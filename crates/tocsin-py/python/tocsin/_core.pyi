@@ -13,6 +13,7 @@ __all__ = [
     "__version__",
     "ContactResult",
     "DistanceResult",
+    "HausdorffResult",
     "Mesh",
     "Motion",
     "Robot",
@@ -25,6 +26,7 @@ __all__ = [
     "collide_pairs",
     "contains",
     "distance",
+    "hausdorff_distance",
     "motion_is_free",
     "orthonormalize",
     "time_of_contact",
@@ -441,3 +443,33 @@ def winding_number(
 
 def contains(mesh: Mesh, pose: ArrayLike, points: ArrayLike) -> npt.NDArray[np.bool_]:
     """Whether each world point (N, 3) is inside the placed mesh (winding number above 1/2)."""
+
+@final
+class HausdorffResult:
+    """The Hausdorff distance found, within the error bound, and where."""
+
+    @property
+    def distance(self) -> float:
+        """A value attained by a surface point (at most the true distance)."""
+    @property
+    def upper_bound(self) -> float:
+        """An upper bound on the true distance."""
+    @property
+    def from_first(self) -> bool:
+        """Whether point1 is on mesh1."""
+    @property
+    def point1(self) -> npt.NDArray[np.float64]:
+        """The point realising distance, world frame, (3,)."""
+    @property
+    def point2(self) -> npt.NDArray[np.float64]:
+        """Its closest point on the other mesh, world frame, (3,)."""
+
+def hausdorff_distance(
+    mesh1: Mesh,
+    pose1: ArrayLike,
+    mesh2: Mesh,
+    pose2: ArrayLike,
+    max_error: Optional[float] = None,
+    symmetric: bool = False,
+) -> HausdorffResult:
+    """Hausdorff distance between two placed meshes' surfaces, exact within max_error."""

@@ -1,0 +1,119 @@
+//! Hausdorff distance within its error bound, against brute force: every triangle of A sampled
+//! densely, each sample's distance to every triangle of B; closed forms for offset plates and
+//! identical meshes.
+
+#![allow(clippy::unwrap_used, clippy::panic)]
+
+mod common;
+
+use tocsin::query::distance::distance_triangle_triangle;
+use tocsin::{hausdorff_distance, mesh, Pose, TriMesh, Vec3};
+
+/// Largest distance to B over `k`-by-`k` barycentric samples of every triangle of A (world).
+fn sampled(a: &TriMesh, pa: &Pose, b: &TriMesh, pb: &Pose, k: usize) -> f64 {
+    let tb: Vec<[Vec3; 3]> = (0..b.num_triangles())
+        .map(|j| b.triangle(j).map(|p| pb.transform_point(p)))
+        .collect();
+    let mut worst: f64 = 0.0;
+    for i in 0..a.num_triangles() {
+        let t = a.triangle(i).map(|p| pa.transform_point(p));
+        for u in 0..=k {
+            for v in 0..=(k - u) {
+                let (s, r) = (u as f64 / k as f64, v as f64 / k as f64);
+                let p = t[0] + (t[1] - t[0]) * s + (t[2] - t[0]) * r;
+                let d = tb
+                    .iter()
+                    .map(|q| distance_triangle_triangle(&[p; 3], q).distance)
+                    .fold(f64::INFINITY, f64::min);
+                worst = worst.max(d);
+            }
+        }
+    }
+    worst
+}
+
+/// Exact distance from a point to B by brute force.
+fn point_distance(p: Vec3, b: &TriMesh, pb: &Pose) -> f64 {
+    (0..b.num_triangles())
+        .map(|j| {
+            distance_triangle_triangle(&[p; 3], &b.triangle(j).map(|q| pb.transform_point(q)))
+                .distance
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+#[test]
+fn within_the_error_bound_of_dense_sampling_on_random_soups() {
+    let mut rng = common::rng(21);
+    for case in 0..12 {
+        let a = common::random_soup(&mut rng, 15, 1.0);
+        let b = common::random_soup(&mut rng, 25, 1.0);
+        let (pa, pb) = (
+            common::random_pose(&mut rng, 1.0),
+            common::random_pose(&mut rng, 1.0),
+        );
+        for symmetric in [false, true] {
+            let e = 1e-3;
+            let r = hausdorff_distance(&a, &pa, &b, &pb, e, symmetric).unwrap();
+            assert!(
+                r.upper_bound - r.distance <= e * (1.0 + 1e-9),
+                "case {case}: gap"
+            );
+            // The witness is real: its distance is the value returned.
+            let (from, to, pto) = if r.from_first {
+                (&a, &b, &pb)
+            } else {
+                (&b, &a, &pa)
+            };
+            let _ = from;
+            let d = point_distance(r.point1, to, pto);
+            assert!(
+                (d - r.distance).abs() < 1e-9,
+                "case {case}: witness {d} vs {}",
+                r.distance
+            );
+            // Nothing sampled lies farther than the upper bound.
+            let mut dense = sampled(&a, &pa, &b, &pb, 12);
+            if symmetric {
+                dense = dense.max(sampled(&b, &pb, &a, &pa, 12));
+            }
+            assert!(
+                dense <= r.upper_bound + 1e-12,
+                "case {case}: sampled {dense} > {}",
+                r.upper_bound
+            );
+            assert!(
+                r.distance >= dense - 0.05,
+                "case {case}: {} far below sampling {dense}",
+                r.distance
+            );
+        }
+    }
+}
+
+#[test]
+fn closed_forms_plates_and_identical_meshes() {
+    // Two parallel plates 0.3 apart: every point of one is 0.3 from the other, and the bound
+    // for triangles lying over one triangle of the other is exact, so this ends quickly.
+    let plate = mesh::plate(2.0, 8).unwrap();
+    let up = Pose::from_translation(Vec3::new(0.0, 0.0, 0.3));
+    let r = hausdorff_distance(&plate, &Pose::IDENTITY, &plate, &up, 1e-9, true).unwrap();
+    assert!((r.distance - 0.3).abs() < 1e-12 && (r.upper_bound - 0.3).abs() < 1e-9);
+    // A plate against a bigger one: one-sided 0.3, but the bigger one's rim is farther.
+    let big = mesh::plate(4.0, 8).unwrap();
+    let one = hausdorff_distance(&plate, &Pose::IDENTITY, &big, &up, 1e-6, false).unwrap();
+    assert!((one.distance - 0.3).abs() < 1e-6);
+    let back = hausdorff_distance(&big, &up, &plate, &Pose::IDENTITY, 1e-6, false).unwrap();
+    let expect = (1.0_f64 * 1.0 * 2.0 + 0.09).sqrt(); // corner (2, 2) to corner (1, 1), 0.3 up
+    assert!(
+        (back.distance - expect).abs() < 1e-6,
+        "{} vs {expect}",
+        back.distance
+    );
+    // Identical meshes: 0.
+    let knot = mesh::torus_knot(60, 6).unwrap();
+    let same =
+        hausdorff_distance(&knot, &Pose::IDENTITY, &knot, &Pose::IDENTITY, 1e-6, true).unwrap();
+    assert!(same.distance <= 1e-12 && same.upper_bound <= 1e-6);
+    assert!(hausdorff_distance(&knot, &Pose::IDENTITY, &knot, &Pose::IDENTITY, 0.0, true).is_err());
+}
