@@ -39,6 +39,8 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(penetration::contains, m)?)?;
     m.add_function(wrap_pyfunction!(penetration::hausdorff_distance, m)?)?;
     m.add_class::<penetration::HausdorffResult>()?;
+    m.add_function(wrap_pyfunction!(penetration::penetration_depth, m)?)?;
+    m.add_class::<penetration::PenetrationResult>()?;
     m.add_class::<robot::Robot>()?;
     m.add_class::<robot::Scene>()?;
     m.add_class::<robot::RobotContact>()?;

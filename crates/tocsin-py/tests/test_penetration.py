@@ -83,3 +83,48 @@ def test_hausdorff_of_offset_plates_and_a_sphere_in_a_bigger_one():
     assert 0.95 < one.distance <= one.upper_bound < 1.01 and one.from_first
     with pytest.raises(tocsin.OptionsError):
         tocsin.hausdorff_distance(box, np.eye(4), box, moved, max_error=-1.0)
+
+
+def box_sat_depth(h1, p1, h2, p2):
+    """Exact penetration depth of two boxes: the smallest overlap over the 15 SAT axes."""
+    a, b = p1[:3, :3].T, p2[:3, :3].T
+    axes = list(a) + list(b)
+    for x in a:
+        for y in b:
+            c = np.cross(x, y)
+            if np.linalg.norm(c) > 1e-9:
+                axes.append(c / np.linalg.norm(c))
+    d = p2[:3, 3] - p1[:3, 3]
+    ext = lambda rows, h, u: sum(h[i] * abs(rows[i] @ u) for i in range(3))
+    return min(ext(a, h1, u) + ext(b, h2, u) - abs(d @ u) for u in axes)
+
+
+def test_penetration_depth_of_boxes_and_its_guarantee():
+    rng = np.random.default_rng(5)
+    h1, h2 = np.array([0.5, 0.3, 0.8]), np.array([0.4, 0.6, 0.2])
+    b1, b2 = tocsin.Mesh.box(h1), tocsin.Mesh.box(h2)
+    checked = 0
+    for _ in range(30):
+        p1, p2 = np.eye(4), np.eye(4)
+        for p, s in [(p1, 0.2), (p2, 0.6)]:
+            p[:3, :3] = trimesh.transformations.random_rotation_matrix(rng.random(3))[:3, :3]
+            p[:3, 3] = rng.uniform(-s, s, 3)
+        exact = box_sat_depth(h1, p1, h2, p2)
+        if exact < 1e-3:
+            continue
+        checked += 1
+        r = tocsin.penetration_depth(b1, p1, b2, p2)
+        assert r.status == "converged"
+        tol = 1e-3 * min(b1.bounding_radius, b2.bounding_radius)
+        assert exact - 2 * tol <= r.depth <= 1.02 * exact + 2 * tol
+        after = p2.copy()
+        after[:3, 3] += r.translation
+        assert not tocsin.collide(b1, p1, b2, after)
+        assert tocsin.distance(b1, p1, b2, after).distance <= tol * (1 + 1e-9)
+    assert checked >= 15
+    apart = np.eye(4)
+    apart[0, 3] = 5.0
+    s = tocsin.penetration_depth(b1, np.eye(4), b2, apart)
+    assert s.status == "separated" and s.depth == 0.0
+    with pytest.raises(tocsin.OptionsError):
+        tocsin.penetration_depth(b1, np.eye(4), b2, np.eye(4), tolerance=-1.0)

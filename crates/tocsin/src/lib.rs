@@ -34,7 +34,8 @@ pub use query::distance::{
     DistanceResult,
 };
 pub use query::penetration::{
-    contains, hausdorff_distance, winding_number, HausdorffResult, WindingOptions,
+    contains, hausdorff_distance, penetration_depth, winding_number, DepthOptions, DepthStatus,
+    HausdorffResult, PenetrationDepth, WindingOptions,
 };
 pub use robot::{Robot, RobotError};
 

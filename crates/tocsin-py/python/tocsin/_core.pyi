@@ -16,6 +16,7 @@ __all__ = [
     "HausdorffResult",
     "Mesh",
     "Motion",
+    "PenetrationResult",
     "Robot",
     "RobotContact",
     "Scene",
@@ -29,6 +30,7 @@ __all__ = [
     "hausdorff_distance",
     "motion_is_free",
     "orthonormalize",
+    "penetration_depth",
     "time_of_contact",
     "winding_number",
     "within_distance",
@@ -473,3 +475,41 @@ def hausdorff_distance(
     symmetric: bool = False,
 ) -> HausdorffResult:
     """Hausdorff distance between two placed meshes' surfaces, exact within max_error."""
+
+@final
+class PenetrationResult:
+    """A translational penetration depth and the translation that realises it."""
+
+    @property
+    def depth(self) -> float:
+        """Length of the translation (0 when separated)."""
+    @property
+    def iterations(self) -> int:
+        """Refinement iterations taken."""
+    @property
+    def status(self) -> Literal["separated", "converged", "iteration_limit"]:
+        """How the query ended."""
+    @property
+    def translation(self) -> npt.NDArray[np.float64]:
+        """Translation to apply to body 2 (world frame), (3,)."""
+    @property
+    def direction(self) -> npt.NDArray[np.float64]:
+        """Unit direction of the translation, (3,)."""
+    @property
+    def point1(self) -> npt.NDArray[np.float64]:
+        """Closest point on body 1 at the touching configuration, (3,)."""
+    @property
+    def point2(self) -> npt.NDArray[np.float64]:
+        """Closest point on body 2 there, (3,)."""
+
+def penetration_depth(
+    mesh1: Mesh,
+    pose1: ArrayLike,
+    mesh2: Mesh,
+    pose2: ArrayLike,
+    tolerance: Optional[float] = None,
+    max_iterations: Optional[int] = None,
+    directions: Optional[int] = None,
+    cached_direction: Optional[ArrayLike] = None,
+) -> PenetrationResult:
+    """Translational penetration depth of mesh2 into mesh1 (PolyDepth-style local optimum)."""

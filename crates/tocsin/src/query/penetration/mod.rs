@@ -1,7 +1,7 @@
 //! Penetration: what lies inside a polygon soup, and how far surfaces are from each other. So
-//! far the generalized winding number and the inside test built on it ([`winding`]) and the
-//! Hausdorff distance within an error bound ([`hausdorff`]); penetration depth (PolyDepth) and
-//! pointwise depth are not built yet.
+//! far the generalized winding number and the inside test built on it ([`winding`]), the
+//! Hausdorff distance within an error bound ([`hausdorff`]), and translational penetration
+//! depth after PolyDepth ([`depth`]); pointwise depth is not built yet.
 //!
 //! How this relates to the rest of the library: `distance` and `collide` keep treating a soup
 //! as a surface with no inside (one closed mesh strictly inside another is apart from it).
@@ -10,8 +10,10 @@
 //! inside for closed, consistently oriented meshes, degrades gracefully on soups with holes,
 //! duplicated or flipped triangles, and is negative (outside) for inside-out meshes.
 
+pub mod depth;
 pub mod hausdorff;
 pub mod winding;
 
+pub use depth::{penetration_depth, DepthOptions, DepthStatus, PenetrationDepth};
 pub use hausdorff::{hausdorff_distance, HausdorffResult};
 pub use winding::{contains, winding_number, WindingOptions};

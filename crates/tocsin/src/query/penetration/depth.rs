@@ -1,0 +1,353 @@
+//! Translational penetration depth between two polygon soups, after PolyDepth (Je, Tang, Lee,
+//! Lee and Kim, ACM TOG 31(1), 2012): the shortest translation of body 2 found that leaves the
+//! two surfaces touching (within the tolerance) and not intersecting, by out-projection with
+//! the continuous collision query and in-projection on the local contact space.
+//!
+//! 1. **In collision?** The bodies penetrate when their surfaces intersect (`collide`), or when
+//!    one lies inside the other (a corner of each tested with the winding number, see
+//!    [`super::winding`]); otherwise the status is [`DepthStatus::Separated`] with depth 0.
+//! 2. **Seeds (out-projection).** For each seed direction `d` (the centroid difference, the
+//!    caller's cached direction when given, the principal axes of both root volumes both ways, a
+//!    box's face normals, and `directions` directions spread over the sphere),
+//!    body 2 is started far out along `d` (farther than both bounding radii and the centres'
+//!    distance: certainly apart) and translated straight back to where it is; the time of
+//!    contact of that motion is where it first touches body 1 coming from outside: a
+//!    collision-free, touching translation `t = s d`. The shortest three are refined.
+//! 3. **Local refinement (in-projection, then out-projection).** Each out-projection ends at a
+//!    touching translation `t` with a contact normal `n` (from body 1 to body 2): near it the
+//!    contact space is the half-space `n . (x - t) >= 0`. The last four such planes stand for
+//!    PolyDepth's local contact cone; the shortest translations on each plane, on each pair's
+//!    intersection line and at each triple's corner (the in-projection; PolyDepth solves an
+//!    LCP over every contact of the cone with projected Gauss-Seidel, this takes the contacts
+//!    the continuous query returns, one per out-projection: a deviation) are tried shortest
+//!    first, each by out-projecting along its direction; the first shorter touching
+//!    translation is accepted, so the depth never grows, and the iteration ends when none is.
+//!
+//! The result is a local optimum: for convex bodies the seeds along the separating axes make it
+//! the global one in the tests (boxes, against the separating-axis oracle); for non-convex
+//! bodies it is an upper bound on the true depth (a translation that does separate them). The
+//! final configuration is checked: `collide` is false there and the distance at most the
+//! tolerance.
+
+use crate::error::ContactError;
+use crate::math::{Pose, Vec3};
+use crate::motion::Motion;
+use crate::query::collide::collide;
+use crate::query::contact_time::{time_of_contact, ContactOptions};
+use crate::query::penetration::winding::contains;
+use crate::TriMesh;
+
+/// Options of [`penetration_depth`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DepthOptions {
+    /// Distance tolerance of the touching configuration (model units, > 0). `None`: the time
+    /// of contact's default, `1e-3` of the smaller bounding radius.
+    pub tolerance: Option<f64>,
+    /// Refinement iterations at most. Default 32.
+    pub max_iterations: usize,
+    /// Seed directions spread over the sphere (besides the centroid difference and the cached
+    /// direction). Default 26 (the 6 axes, 12 edge and 8 corner directions of a cube).
+    pub directions: usize,
+    /// A direction from an earlier query (motion coherence), tried first.
+    pub cached_direction: Option<Vec3>,
+}
+
+impl Default for DepthOptions {
+    fn default() -> Self {
+        Self {
+            tolerance: None,
+            max_iterations: 32,
+            directions: 26,
+            cached_direction: None,
+        }
+    }
+}
+
+/// How the query ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum DepthStatus {
+    /// The bodies do not penetrate: depth 0, translation 0.
+    Separated,
+    /// No shorter touching translation was found near the one returned.
+    Converged,
+    /// The refinement ran out of iterations (the result is still a valid separating
+    /// translation, maybe not locally shortest).
+    IterationLimit,
+}
+
+/// A penetration depth and the translation that realises it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PenetrationDepth {
+    /// Length of `translation` (model units, >= 0).
+    pub depth: f64,
+    /// Translation to apply to body 2 (world frame) after which the bodies touch within the
+    /// tolerance without intersecting.
+    pub translation: Vec3,
+    /// Its unit direction (`Z` when the depth is 0).
+    pub direction: Vec3,
+    /// Closest point on body 1 at the touching configuration (world frame).
+    pub point1: Vec3,
+    /// Closest point on body 2 there (world frame, body 2 translated).
+    pub point2: Vec3,
+    /// Refinement iterations taken.
+    pub iterations: usize,
+    /// How it ended.
+    pub status: DepthStatus,
+}
+
+/// Seed directions: `n` points spread over the unit sphere (a cube's 26 face, edge and corner
+/// directions for the default; a Fibonacci spiral otherwise).
+fn sphere_directions(n: usize) -> Vec<Vec3> {
+    if n == 26 {
+        let mut out = Vec::with_capacity(26);
+        for x in -1i32..=1 {
+            for y in -1i32..=1 {
+                for z in -1i32..=1 {
+                    if (x, y, z) != (0, 0, 0) {
+                        out.push(Vec3::new(x as f64, y as f64, z as f64).normalize());
+                    }
+                }
+            }
+        }
+        return out;
+    }
+    let golden = std::f64::consts::PI * (3.0 - 5.0_f64.sqrt());
+    (0..n)
+        .map(|i| {
+            let z = 1.0 - 2.0 * (i as f64 + 0.5) / n as f64;
+            let r = (1.0 - z * z).max(0.0).sqrt();
+            let a = golden * i as f64;
+            Vec3::new(r * a.cos(), r * a.sin(), z)
+        })
+        .collect()
+}
+
+/// Whether the bodies penetrate: surfaces intersect, or one lies inside the other.
+fn penetrating(mesh1: &TriMesh, pose1: &Pose, mesh2: &TriMesh, pose2: &Pose) -> bool {
+    if collide(mesh1, pose1, mesh2, pose2) {
+        return true;
+    }
+    let corner2 = pose2.transform_point(mesh2.vertices()[mesh2.triangles()[0][0] as usize]);
+    let corner1 = pose1.transform_point(mesh1.vertices()[mesh1.triangles()[0][0] as usize]);
+    contains(mesh1, pose1, &[corner2])[0] || contains(mesh2, pose2, &[corner1])[0]
+}
+
+/// Out-projection along the unit `d`: body 2 comes back from far out along `d` to its pose
+/// shifted by `base`; the touching translation reached (world), and the contact normal.
+struct Touch {
+    translation: Vec3,
+    normal: Vec3,
+    point1: Vec3,
+    point2: Vec3,
+}
+
+#[allow(clippy::too_many_arguments)]
+fn out_project(
+    mesh1: &TriMesh,
+    pose1: &Pose,
+    mesh2: &TriMesh,
+    pose2: &Pose,
+    d: Vec3,
+    far: f64,
+    options: &ContactOptions,
+) -> Result<Option<Touch>, ContactError> {
+    let Some(d) = d.try_normalize() else {
+        return Ok(None);
+    };
+    let shifted = |t: Vec3| Pose {
+        rotation: pose2.rotation,
+        translation: pose2.translation + t,
+    };
+    let start = shifted(d * far);
+    let motion = match Motion::translation(start, *pose2) {
+        Ok(m) => m,
+        Err(_) => return Ok(None),
+    };
+    let still = Motion::stationary(*pose1);
+    Ok(
+        time_of_contact(mesh1, &still, mesh2, &motion, options)?.map(|c| Touch {
+            translation: d * far * (1.0 - c.time),
+            normal: c.normal,
+            point1: c.point1,
+            point2: c.point2,
+        }),
+    )
+}
+
+/// Keeps the last four contact planes, dropping one whose normal repeats.
+fn remember(planes: &mut Vec<(Vec3, f64)>, plane: (Vec3, f64)) {
+    planes.retain(|p| p.0.dot(plane.0) < 1.0 - 1e-9);
+    planes.push(plane);
+    if planes.len() > 4 {
+        planes.remove(0);
+    }
+}
+
+/// The shortest translations on the contact planes, their pairwise intersection lines and
+/// their triple intersection points (the faces, edges and corners of the local contact space,
+/// as PolyDepth's contact cone gives them).
+fn candidates(planes: &[(Vec3, f64)]) -> Vec<Vec3> {
+    let mut out = Vec::new();
+    for (i, &(n1, c1)) in planes.iter().enumerate() {
+        if c1 > 0.0 {
+            out.push(n1 * c1);
+        }
+        for (j, &(n2, c2)) in planes.iter().enumerate().skip(i + 1) {
+            let (a, b, d) = (n1.dot(n1), n1.dot(n2), n2.dot(n2));
+            let det = a * d - b * b;
+            if det.abs() > 1e-9 {
+                let (x, y) = ((c1 * d - c2 * b) / det, (c2 * a - c1 * b) / det);
+                out.push(n1 * x + n2 * y);
+            }
+            for &(n3, c3) in planes.iter().skip(j + 1) {
+                let m = crate::math::Mat3::from_cols(n1, n2, n3).transpose();
+                if m.determinant().abs() > 1e-9 {
+                    out.push(m.inverse() * Vec3::new(c1, c2, c3));
+                }
+            }
+        }
+    }
+    out
+}
+
+/// The local refinement from one touching translation (module docs, step 3).
+#[allow(clippy::too_many_arguments)]
+fn refine(
+    mesh1: &TriMesh,
+    pose1: &Pose,
+    mesh2: &TriMesh,
+    pose2: &Pose,
+    mut best: Touch,
+    far: f64,
+    contact_options: &ContactOptions,
+    max_iterations: usize,
+) -> Result<(Touch, usize, DepthStatus), ContactError> {
+    let mut status = DepthStatus::IterationLimit;
+    let mut iterations = 0;
+    // Recent contact planes n . x = n . t (each out-projection's touching translation and
+    // normal): the local contact space is on their positive sides.
+    let mut planes: Vec<(Vec3, f64)> = vec![(best.normal, best.normal.dot(best.translation))];
+    for _ in 0..max_iterations {
+        iterations += 1;
+        let t = best.translation;
+        let mut targets = candidates(&planes);
+        targets.retain(|x| x.length() < t.length() * (1.0 - 1e-9));
+        targets.push(0.5 * (best.normal * best.normal.dot(t) + t));
+        targets.sort_by(|a, b| a.length().total_cmp(&b.length()));
+        let mut improved = false;
+        for target in targets {
+            let dir = if target.length() > 1e-12 * far {
+                target
+            } else {
+                best.normal
+            };
+            if let Some(c) = out_project(mesh1, pose1, mesh2, pose2, dir, far, contact_options)? {
+                remember(&mut planes, (c.normal, c.normal.dot(c.translation)));
+                if c.translation.length() < t.length() * (1.0 - 1e-9) {
+                    best = c;
+                    improved = true;
+                    break;
+                }
+            }
+        }
+        if !improved {
+            status = DepthStatus::Converged;
+            break;
+        }
+    }
+    Ok((best, iterations, status))
+}
+
+/// Seeds refined: the shortest few touching translations of the out-projections.
+const STARTS: usize = 3;
+
+/// Translational penetration depth of `mesh2` (placed by `pose2`) into `mesh1` (module docs).
+///
+/// # Errors
+/// [`ContactError`] for bad options or an iteration cap of the underlying continuous queries.
+pub fn penetration_depth(
+    mesh1: &TriMesh,
+    pose1: &Pose,
+    mesh2: &TriMesh,
+    pose2: &Pose,
+    options: &DepthOptions,
+) -> Result<PenetrationDepth, ContactError> {
+    let contact_options = ContactOptions {
+        tolerance: options.tolerance,
+        ..ContactOptions::default()
+    };
+    if !penetrating(mesh1, pose1, mesh2, pose2) {
+        return Ok(PenetrationDepth {
+            depth: 0.0,
+            translation: Vec3::ZERO,
+            direction: Vec3::Z,
+            point1: Vec3::ZERO,
+            point2: Vec3::ZERO,
+            iterations: 0,
+            status: DepthStatus::Separated,
+        });
+    }
+    let c1 = pose1.transform_point(mesh1.bvh().root().center);
+    let c2 = pose2.transform_point(mesh2.bvh().root().center);
+    let far = 2.0 * (mesh1.bounding_radius() + mesh2.bounding_radius() + (c2 - c1).length())
+        + f64::MIN_POSITIVE;
+    let mut seeds: Vec<Vec3> = Vec::new();
+    seeds.extend(options.cached_direction);
+    seeds.push(c2 - c1);
+    if options.directions > 0 {
+        // The principal axes of both root volumes, both ways: a box's face normals.
+        for (pose, m) in [(pose1, mesh1), (pose2, mesh2)] {
+            let axes = pose.rotation * m.bvh().root().axes;
+            for a in [axes.x_axis, axes.y_axis, axes.z_axis] {
+                seeds.push(a);
+                seeds.push(-a);
+            }
+        }
+    }
+    seeds.extend(sphere_directions(options.directions));
+    let mut touches: Vec<Touch> = Vec::new();
+    for d in seeds {
+        if let Some(t) = out_project(mesh1, pose1, mesh2, pose2, d, far, &contact_options)? {
+            touches.push(t);
+        }
+    }
+    touches.sort_by(|a, b| a.translation.length().total_cmp(&b.translation.length()));
+    touches.truncate(STARTS);
+    let mut result: Option<(Touch, usize, DepthStatus)> = None;
+    for start in touches {
+        let (t, iterations, status) = refine(
+            mesh1,
+            pose1,
+            mesh2,
+            pose2,
+            start,
+            far,
+            &contact_options,
+            options.max_iterations,
+        )?;
+        if result
+            .as_ref()
+            .is_none_or(|r| t.translation.length() < r.0.translation.length())
+        {
+            result = Some((t, iterations, status));
+        }
+    }
+    let Some((best, iterations, status)) = result else {
+        // Every direction failed (degenerate input): report no separating translation found.
+        return Err(ContactError::IterationLimit {
+            iterations: 0,
+            time_reached: 0.0,
+        });
+    };
+    let depth = best.translation.length();
+    Ok(PenetrationDepth {
+        depth,
+        translation: best.translation,
+        direction: best.translation.try_normalize().unwrap_or(Vec3::Z),
+        point1: best.point1,
+        point2: best.point2,
+        iterations,
+        status,
+    })
+}
