@@ -7,7 +7,9 @@
 //! `translation`, `interp`, `screw` and START, END poses (`interp` takes an optional fourth
 //! field, the centre `x,y,z` in the body frame). `tocsin run scene.json` (or `.toml`) runs a
 //! scene file (see `scene.rs`); `tocsin robot-path robot.urdf --q0 .. --q1 ..` checks a robot's
-//! joint-space segment (see `robot.rs`). Errors print one line and exit with status 2.
+//! joint-space segment (see `robot.rs`); `penetration` and `hausdorff` give the penetration
+//! depth and the Hausdorff distance of two placed meshes. Errors print one line and exit with
+//! status 2.
 
 mod render;
 mod robot;
@@ -135,6 +137,28 @@ enum Command {
         #[command(flatten)]
         args: robot::RobotPathArgs,
     },
+    /// Translational penetration depth of mesh 2 into mesh 1 (after PolyDepth): the translation
+    /// of mesh 2 (world frame) that leaves them touching without intersecting.
+    Penetration {
+        #[command(flatten)]
+        pair: PairArgs,
+        /// Distance tolerance of the touching configuration (default 1e-3 of the smaller
+        /// bounding radius).
+        #[arg(long)]
+        tolerance: Option<f64>,
+    },
+    /// Hausdorff distance from mesh 1's surface to mesh 2's (with --symmetric, both ways),
+    /// exact within --max-error.
+    Hausdorff {
+        #[command(flatten)]
+        pair: PairArgs,
+        /// Error bound, model units (default 1e-4 of the smaller bounding radius).
+        #[arg(long)]
+        max_error: Option<f64>,
+        /// The larger of both directions.
+        #[arg(long)]
+        symmetric: bool,
+    },
     /// Whether the distance is at most THRESHOLD (model units).
     Within {
         #[command(flatten)]
@@ -231,6 +255,54 @@ fn run(cli: Cli) -> Result<serde_json::Value, String> {
         }
         Command::Run { scene } => scene::run(&scene),
         Command::RobotPath { args } => robot::run(&args),
+        Command::Penetration { pair, tolerance } => {
+            let (m1, p1, m2, p2) = setup(&pair)?;
+            let opts = tocsin::DepthOptions {
+                tolerance,
+                ..Default::default()
+            };
+            let start = std::time::Instant::now();
+            let r =
+                tocsin::penetration_depth(&m1, &p1, &m2, &p2, &opts).map_err(|e| e.to_string())?;
+            Ok(json!({
+                "depth": r.depth,
+                "translation": r.translation.to_array(),
+                "direction": r.direction.to_array(),
+                "point1": r.point1.to_array(),
+                "point2": r.point2.to_array(),
+                "iterations": r.iterations,
+                "status": match r.status {
+                    tocsin::DepthStatus::Separated => "separated",
+                    tocsin::DepthStatus::Converged => "converged",
+                    _ => "iteration_limit",
+                },
+                "seconds": start.elapsed().as_secs_f64(),
+            }))
+        }
+        Command::Hausdorff {
+            pair,
+            max_error,
+            symmetric,
+        } => {
+            let (m1, p1, m2, p2) = setup(&pair)?;
+            let e = max_error.unwrap_or(
+                1e-4 * m1
+                    .bounding_radius()
+                    .min(m2.bounding_radius())
+                    .max(f64::MIN_POSITIVE),
+            );
+            let start = std::time::Instant::now();
+            let r = tocsin::hausdorff_distance(&m1, &p1, &m2, &p2, e, symmetric)
+                .map_err(|e| e.to_string())?;
+            Ok(json!({
+                "distance": r.distance,
+                "upper_bound": r.upper_bound,
+                "point1": r.point1.to_array(),
+                "point2": r.point2.to_array(),
+                "from_first": r.from_first,
+                "seconds": start.elapsed().as_secs_f64(),
+            }))
+        }
         Command::Within { pair, threshold } => {
             let (m1, p1, m2, p2) = setup(&pair)?;
             let w = within_distance(&m1, &p1, &m2, &p2, threshold).map_err(|e| e.to_string())?;

@@ -472,3 +472,46 @@ fn robot_path_reports_contacts_and_free_segments() {
     assert_eq!(code, 2);
     assert!(err.contains("nonexistent"), "{err}");
 }
+
+#[test]
+fn penetration_and_hausdorff() {
+    let (code, out, err) = tocsin(&[
+        "penetration",
+        "builtin:box",
+        "builtin:box",
+        "--pose2",
+        "0.8,0,0",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["status"], "converged");
+    // Unit boxes overlapping by 0.2 along x: pushed out by 0.2 along +x.
+    assert!((v["depth"].as_f64().unwrap() - 0.2).abs() < 2e-3, "{out}");
+    assert!(v["direction"][0].as_f64().unwrap() > 0.99);
+    let (_, out, _) = tocsin(&[
+        "penetration",
+        "builtin:box",
+        "builtin:box",
+        "--pose2",
+        "3,0,0",
+    ]);
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["status"], "separated");
+    let (code, out, _) = tocsin(&[
+        "hausdorff",
+        "builtin:box",
+        "builtin:box",
+        "--pose2",
+        "0,0,0.25",
+        "--symmetric",
+    ]);
+    assert_eq!(code, 0);
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert!(
+        (v["distance"].as_f64().unwrap() - 0.25).abs() < 1e-4,
+        "{out}"
+    );
+    let (code, _, err) = tocsin(&["hausdorff", "builtin:box", "builtin:box", "--max-error=-1"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("max_error"), "{err}");
+}
