@@ -41,6 +41,8 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<penetration::HausdorffResult>()?;
     m.add_function(wrap_pyfunction!(penetration::penetration_depth, m)?)?;
     m.add_class::<penetration::PenetrationResult>()?;
+    m.add_function(wrap_pyfunction!(penetration::pointwise_penetration, m)?)?;
+    m.add_class::<penetration::PointwiseResult>()?;
     m.add_class::<robot::Robot>()?;
     m.add_class::<robot::Scene>()?;
     m.add_class::<robot::RobotContact>()?;

@@ -46,9 +46,11 @@ pub(crate) fn winding_number<'py>(
     Ok(PyArray1::from_vec(py, w))
 }
 
-/// Whether each world point (N, 3) is inside `mesh` placed by `pose`: its generalized winding
-/// number exceeds 1/2 (exactly evaluated wherever the fast one is near 1/2). A polygon soup has
-/// no inside for distance and collide; this is the inside penetration queries use.
+/// Whether each world point (N, 3) is inside `mesh` placed by `pose`: the magnitude of its
+/// generalized winding number exceeds 1/2 (exactly evaluated wherever the fast one is near 1/2;
+/// the magnitude, as a soup has no reliable orientation: inside-out meshes have the same
+/// inside). A polygon soup has no inside for distance and collide; this is the inside the
+/// penetration queries use.
 #[pyfunction]
 pub(crate) fn contains<'py>(
     py: Python<'py>,
@@ -249,6 +251,79 @@ pub(crate) fn penetration_depth(
         },
         t: r.translation,
         dir: r.direction,
+        p1: r.point1,
+        p2: r.point2,
+    })
+}
+
+/// The deepest interpenetrating points found (pointwise penetration depth).
+#[pyclass(frozen, module = "tocsin._core")]
+pub(crate) struct PointwiseResult {
+    /// Depth attained: distance from point1 (inside the other body) to the other surface.
+    #[pyo3(get)]
+    depth: f64,
+    /// Upper bound on the true pointwise depth.
+    #[pyo3(get)]
+    upper_bound: f64,
+    /// Whether point1 is on mesh1 (inside mesh2); False: on mesh2 inside mesh1.
+    #[pyo3(get)]
+    from_first: bool,
+    p1: Vec3,
+    p2: Vec3,
+}
+
+#[pymethods]
+impl PointwiseResult {
+    /// The deepest point found, on its own surface, world frame, (3,).
+    #[getter]
+    fn point1<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        vec3(py, self.p1)
+    }
+
+    /// Its closest point on the other surface, world frame, (3,).
+    #[getter]
+    fn point2<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        vec3(py, self.p2)
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "PointwiseResult(depth={}, upper_bound={})",
+            self.depth, self.upper_bound
+        )
+    }
+}
+
+/// Pointwise penetration depth (Tang, Lee, Kim 2009): the largest distance from a point of one
+/// surface that lies inside the other body (winding number magnitude above 1/2) to the other surface,
+/// within max_error (default 1e-4 of the smaller bounding radius), with the two points.
+/// Depth 0 when neither surface enters the other. Exact inside/outside for closed meshes; on
+/// soups with holes a piece not crossing the other surface is classified by its centroid.
+#[pyfunction]
+#[pyo3(signature = (mesh1, pose1, mesh2, pose2, max_error=None))]
+pub(crate) fn pointwise_penetration(
+    py: Python<'_>,
+    mesh1: &Mesh,
+    pose1: &Bound<'_, PyAny>,
+    mesh2: &Mesh,
+    pose2: &Bound<'_, PyAny>,
+    max_error: Option<f64>,
+) -> PyResult<PointwiseResult> {
+    let (p1, p2) = (pose_from(pose1, "pose1")?, pose_from(pose2, "pose2")?);
+    let (m1, m2) = (mesh1.inner.clone(), mesh2.inner.clone());
+    let e = max_error.unwrap_or_else(|| {
+        1e-4 * m1
+            .bounding_radius()
+            .min(m2.bounding_radius())
+            .max(f64::MIN_POSITIVE)
+    });
+    let r = py
+        .detach(|| tocsin::pointwise_penetration(&m1, &p1, &m2, &p2, e))
+        .map_err(|e| options_error(py, e))?;
+    Ok(PointwiseResult {
+        depth: r.depth,
+        upper_bound: r.upper_bound,
+        from_first: r.from_first,
         p1: r.point1,
         p2: r.point2,
     })

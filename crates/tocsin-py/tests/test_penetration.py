@@ -128,3 +128,14 @@ def test_penetration_depth_of_boxes_and_its_guarantee():
     assert s.status == "separated" and s.depth == 0.0
     with pytest.raises(tocsin.OptionsError):
         tocsin.penetration_depth(b1, np.eye(4), b2, np.eye(4), tolerance=-1.0)
+
+
+def test_pointwise_penetration_of_overlapping_cubes():
+    cube = tocsin.Mesh.box([0.5, 0.5, 0.5])
+    shifted = np.eye(4)
+    shifted[0, 3] = 0.8
+    r = tocsin.pointwise_penetration(cube, np.eye(4), cube, shifted, max_error=1e-6)
+    assert abs(r.depth - 0.2) < 1e-6 and r.upper_bound - r.depth <= 1e-6 + 1e-12
+    apart = np.eye(4)
+    apart[0, 3] = 3.0
+    assert tocsin.pointwise_penetration(cube, np.eye(4), cube, apart).depth == 0.0

@@ -34,8 +34,9 @@ pub use query::distance::{
     DistanceResult,
 };
 pub use query::penetration::{
-    contains, hausdorff_distance, penetration_depth, winding_number, DepthOptions, DepthStatus,
-    HausdorffResult, PenetrationDepth, WindingOptions,
+    contains, hausdorff_distance, penetration_depth, pointwise_penetration, winding_number,
+    DepthOptions, DepthStatus, HausdorffResult, PenetrationDepth, PointwisePenetration,
+    WindingOptions,
 };
 pub use robot::{Robot, RobotError};
 

@@ -17,6 +17,7 @@ __all__ = [
     "Mesh",
     "Motion",
     "PenetrationResult",
+    "PointwiseResult",
     "Robot",
     "RobotContact",
     "Scene",
@@ -31,6 +32,7 @@ __all__ = [
     "motion_is_free",
     "orthonormalize",
     "penetration_depth",
+    "pointwise_penetration",
     "time_of_contact",
     "winding_number",
     "within_distance",
@@ -513,3 +515,28 @@ def penetration_depth(
     cached_direction: Optional[ArrayLike] = None,
 ) -> PenetrationResult:
     """Translational penetration depth of mesh2 into mesh1 (PolyDepth-style local optimum)."""
+
+@final
+class PointwiseResult:
+    """The deepest interpenetrating points found (pointwise penetration depth)."""
+
+    @property
+    def depth(self) -> float:
+        """Depth attained."""
+    @property
+    def upper_bound(self) -> float:
+        """Upper bound on the true pointwise depth."""
+    @property
+    def from_first(self) -> bool:
+        """Whether point1 is on mesh1 (inside mesh2)."""
+    @property
+    def point1(self) -> npt.NDArray[np.float64]:
+        """The deepest point found, world frame, (3,)."""
+    @property
+    def point2(self) -> npt.NDArray[np.float64]:
+        """Its closest point on the other surface, world frame, (3,)."""
+
+def pointwise_penetration(
+    mesh1: Mesh, pose1: ArrayLike, mesh2: Mesh, pose2: ArrayLike, max_error: Optional[float] = None
+) -> PointwiseResult:
+    """Pointwise penetration depth of two placed meshes, within max_error."""

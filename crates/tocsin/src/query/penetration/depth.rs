@@ -34,7 +34,7 @@ use crate::math::{Pose, Vec3};
 use crate::motion::Motion;
 use crate::query::collide::collide;
 use crate::query::contact_time::{time_of_contact, ContactOptions};
-use crate::query::penetration::winding::contains;
+use crate::query::penetration::winding::inside;
 use crate::TriMesh;
 
 /// Options of [`penetration_depth`].
@@ -128,9 +128,14 @@ fn penetrating(mesh1: &TriMesh, pose1: &Pose, mesh2: &TriMesh, pose2: &Pose) -> 
     if collide(mesh1, pose1, mesh2, pose2) {
         return true;
     }
-    let corner2 = pose2.transform_point(mesh2.vertices()[mesh2.triangles()[0][0] as usize]);
-    let corner1 = pose1.transform_point(mesh1.vertices()[mesh1.triangles()[0][0] as usize]);
-    contains(mesh1, pose1, &[corner2])[0] || contains(mesh2, pose2, &[corner1])[0]
+    // A corner of each in the other's frame.
+    let corner2 = pose1
+        .inv_mul(pose2)
+        .transform_point(mesh2.vertices()[mesh2.triangles()[0][0] as usize]);
+    let corner1 = pose2
+        .inv_mul(pose1)
+        .transform_point(mesh1.vertices()[mesh1.triangles()[0][0] as usize]);
+    inside(mesh1, corner2) || inside(mesh2, corner1)
 }
 
 /// Out-projection along the unit `d`: body 2 comes back from far out along `d` to its pose

@@ -1,19 +1,22 @@
 //! Penetration: what lies inside a polygon soup, and how far surfaces are from each other. So
 //! far the generalized winding number and the inside test built on it ([`winding`]), the
-//! Hausdorff distance within an error bound ([`hausdorff`]), and translational penetration
-//! depth after PolyDepth ([`depth`]); pointwise depth is not built yet.
+//! Hausdorff distance within an error bound ([`hausdorff`]), translational penetration depth
+//! after PolyDepth ([`depth`]) and pointwise penetration depth ([`pointwise`]).
 //!
 //! How this relates to the rest of the library: `distance` and `collide` keep treating a soup
 //! as a surface with no inside (one closed mesh strictly inside another is apart from it).
 //! Penetration is a separate question that needs an inside, and it uses the winding number's:
-//! a point is inside where the generalized winding number exceeds 1/2, which is the usual
-//! inside for closed, consistently oriented meshes, degrades gracefully on soups with holes,
-//! duplicated or flipped triangles, and is negative (outside) for inside-out meshes.
+//! a point is inside where the generalized winding number's magnitude exceeds 1/2, which is the
+//! usual inside for closed, consistently oriented meshes, degrades gracefully on soups with
+//! holes, duplicated or flipped triangles, and is the same for inside-out meshes (winding -1
+//! inside: a soup has no reliable orientation).
 
 pub mod depth;
 pub mod hausdorff;
+pub mod pointwise;
 pub mod winding;
 
 pub use depth::{penetration_depth, DepthOptions, DepthStatus, PenetrationDepth};
 pub use hausdorff::{hausdorff_distance, HausdorffResult};
+pub use pointwise::{pointwise_penetration, PointwisePenetration};
 pub use winding::{contains, winding_number, WindingOptions};

@@ -167,22 +167,26 @@ pub fn winding_number(
         .collect())
 }
 
-/// Whether each world point is inside `mesh` (placed by `pose`): its winding number exceeds
-/// 1/2, evaluated with the far field and again exactly where that is within 0.25 of 1/2.
+/// Whether each world point is inside `mesh` (placed by `pose`): the magnitude of its winding
+/// number exceeds 1/2, evaluated with the far field and again exactly where that is within 0.25
+/// of 1/2. The magnitude, because a soup has no reliable orientation: an inside-out closed mesh
+/// (winding -1 inside, as the generated torus knots are) has the same inside.
 pub fn contains(mesh: &TriMesh, pose: &Pose, points: &[Vec3]) -> Vec<bool> {
     let to_mesh = pose.inverse();
-    let clusters = mesh.winding_clusters();
     points
         .par_iter()
-        .map(|&p| {
-            let q = to_mesh.transform_point(p);
-            let w = evaluate(mesh, clusters, q, WindingOptions::default().beta);
-            let w = if (w - 0.5).abs() < 0.25 {
-                evaluate(mesh, clusters, q, f64::INFINITY)
-            } else {
-                w
-            };
-            w > 0.5
-        })
+        .map(|&p| inside(mesh, to_mesh.transform_point(p)))
         .collect()
+}
+
+/// [`contains`] for one point in the mesh's frame, on the calling thread.
+pub(crate) fn inside(mesh: &TriMesh, q: Vec3) -> bool {
+    let clusters = mesh.winding_clusters();
+    let w = evaluate(mesh, clusters, q, WindingOptions::default().beta).abs();
+    let w = if (w - 0.5).abs() < 0.25 {
+        evaluate(mesh, clusters, q, f64::INFINITY).abs()
+    } else {
+        w
+    };
+    w > 0.5
 }

@@ -1,0 +1,247 @@
+//! Pointwise penetration depth (Tang, Lee and Kim, SIGGRAPH 2009): the deepest interpenetrating
+//! points. The parts of each surface that lie inside the other body (by the winding number,
+//! [`super::winding`]) are measured against the other surface; the depth is the largest
+//! distance from such a point to the other surface (the Hausdorff distance from the inside parts
+//! to it), within an error bound, with the two points that realise it.
+//!
+//! The search is the Hausdorff distance's (`hausdorff.rs`) restricted to inside points: samples
+//! raise the lower bound only where they are inside the other body, and a piece (a node of the
+//! hierarchy, then a triangle split in four) that does not meet the other surface (its distance
+//! to it is positive) lies on one side of it, decided at its centroid: outside pieces are
+//! dropped, inside ones keep their upper bounds. For closed meshes that is exact; for soups with
+//! holes, where the winding number varies without crossing the surface, a piece is classified by
+//! its centroid (said on [`pointwise_penetration`]).
+
+use std::collections::BinaryHeap;
+
+use crate::bvh::{Bvh, Rss};
+use crate::error::OptionsError;
+use crate::math::{Pose, Vec3};
+use crate::query::distance::distance_triangle_triangle;
+use crate::query::penetration::winding::inside;
+use crate::TriMesh;
+
+/// The deepest interpenetrating points.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PointwisePenetration {
+    /// Depth attained (model units, >= 0; 0 when no part of either surface is inside the other).
+    pub depth: f64,
+    /// Upper bound on the true pointwise depth (`depth <= true <= upper_bound`).
+    pub upper_bound: f64,
+    /// The deepest point found, on the surface of the body it belongs to (world frame).
+    pub point1: Vec3,
+    /// Its closest point on the other surface (world frame).
+    pub point2: Vec3,
+    /// Whether `point1` is on mesh 1 (inside mesh 2); `false`: on mesh 2 inside mesh 1.
+    pub from_first: bool,
+}
+
+/// A lower bound on the distance from `p` to the volume.
+#[inline]
+fn rss_point_bound(rss: &Rss, p: Vec3) -> f64 {
+    let q = rss.axes.transpose() * (p - rss.center);
+    let dx = (q.x.abs() - rss.half_lengths[0]).max(0.0);
+    let dy = (q.y.abs() - rss.half_lengths[1]).max(0.0);
+    ((dx * dx + dy * dy + q.z * q.z).sqrt() - rss.radius).max(0.0)
+}
+
+/// Exact distance from the triangle `t` (B's frame) to B, the closest point on B (meaningful
+/// when `t` is a point: all corners equal) and the leaf position of B's closest triangle.
+fn triangle_to_mesh(bvh: &Bvh, t: &[Vec3; 3]) -> (f64, Vec3, u32) {
+    let nodes = bvh.nodes();
+    let tris = bvh.leaf_triangles();
+    let c = (t[0] + t[1] + t[2]) / 3.0;
+    let r = t.iter().fold(0.0_f64, |m, p| m.max((*p - c).length()));
+    let (mut best, mut closest, mut leaf) = (f64::INFINITY, Vec3::ZERO, 0u32);
+    let mut stack = vec![0u32];
+    while let Some(i) = stack.pop() {
+        let node = &nodes[i as usize];
+        if rss_point_bound(&node.rss, c) - r >= best {
+            continue;
+        }
+        if node.is_leaf() {
+            let d = distance_triangle_triangle(t, &tris[node.leaf_position() as usize]);
+            if d.distance < best {
+                (best, closest, leaf) = (d.distance, d.point2, node.leaf_position());
+            }
+            continue;
+        }
+        let (l, rr) = node.children(i);
+        let (bl, br) = (
+            rss_point_bound(&nodes[l as usize].rss, c),
+            rss_point_bound(&nodes[rr as usize].rss, c),
+        );
+        if bl <= br {
+            stack.push(rr);
+            stack.push(l);
+        } else {
+            stack.push(l);
+            stack.push(rr);
+        }
+    }
+    (best, closest, leaf)
+}
+
+struct Piece {
+    upper: f64,
+    tri: [Vec3; 3],
+}
+impl PartialEq for Piece {
+    fn eq(&self, other: &Self) -> bool {
+        self.upper == other.upper
+    }
+}
+impl Eq for Piece {}
+impl PartialOrd for Piece {
+    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(other))
+    }
+}
+impl Ord for Piece {
+    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
+        self.upper.total_cmp(&other.upper)
+    }
+}
+
+/// One direction: the parts of A inside B, measured against B's surface (all in B's frame).
+struct Inside<'a> {
+    b_mesh: &'a TriMesh,
+    lower: f64,
+    witness: (Vec3, Vec3),
+    dropped: f64,
+}
+
+impl Inside<'_> {
+    fn inside(&self, p: Vec3) -> bool {
+        inside(self.b_mesh, p)
+    }
+
+    /// Samples `p` (a point of A): raises the lower bound if it is inside B. Returns the
+    /// distance to B and the leaf position of B's closest triangle.
+    fn sample(&mut self, p: Vec3) -> (f64, u32) {
+        let (d, q, leaf) = triangle_to_mesh(self.b_mesh.bvh(), &[p; 3]);
+        if d > self.lower && self.inside(p) {
+            self.lower = d;
+            self.witness = (p, q);
+        }
+        (d, leaf)
+    }
+
+    /// The piece's upper bound, or `None` when it lies outside B (it does not meet B's surface
+    /// and its centroid is outside).
+    fn piece(&mut self, t: [Vec3; 3]) -> Option<Piece> {
+        let (gap, _, _) = triangle_to_mesh(self.b_mesh.bvh(), &t);
+        let c = (t[0] + t[1] + t[2]) / 3.0;
+        if gap > 0.0 && !self.inside(c) {
+            return None;
+        }
+        let mut corner_max: f64 = 0.0;
+        let mut leaves = [0u32; 3];
+        for (k, p) in t.into_iter().enumerate() {
+            let (d, leaf) = self.sample(p);
+            corner_max = corner_max.max(d);
+            leaves[k] = leaf;
+        }
+        let (dc, _) = self.sample(c);
+        let r = t.iter().fold(0.0_f64, |m, p| m.max((*p - c).length()));
+        // As in the Hausdorff search: the distance to one triangle of B is convex, so its
+        // maximum over the piece is at a corner, and bounds the distance to B.
+        let tris = self.b_mesh.bvh().leaf_triangles();
+        let mut upper = dc + r;
+        for &j in &leaves {
+            let worst = t
+                .iter()
+                .map(|p| distance_triangle_triangle(&[*p; 3], &tris[j as usize]).distance)
+                .fold(0.0_f64, f64::max);
+            upper = upper.min(worst);
+        }
+        Some(Piece {
+            upper: upper.max(corner_max),
+            tri: t,
+        })
+    }
+
+    fn run(&mut self, a: &TriMesh, a_to_b: &Pose, max_error: f64) -> f64 {
+        let mut heap = BinaryHeap::new();
+        for i in 0..a.num_triangles() {
+            let t = a.triangle(i).map(|p| a_to_b.transform_point(p));
+            if let Some(p) = self.piece(t) {
+                heap.push(p);
+            }
+        }
+        while let Some(piece) = heap.pop() {
+            if piece.upper <= self.lower + max_error {
+                return piece.upper.max(self.lower).max(self.dropped);
+            }
+            let t = piece.tri;
+            let m = [
+                (t[0] + t[1]) * 0.5,
+                (t[1] + t[2]) * 0.5,
+                (t[2] + t[0]) * 0.5,
+            ];
+            for sub in [
+                [t[0], m[0], m[2]],
+                [m[0], t[1], m[1]],
+                [m[2], m[1], t[2]],
+                [m[0], m[1], m[2]],
+            ] {
+                if let Some(p) = self.piece(sub) {
+                    if p.upper > self.lower + max_error {
+                        heap.push(p);
+                    } else {
+                        self.dropped = self.dropped.max(p.upper);
+                    }
+                }
+            }
+        }
+        self.lower.max(self.dropped)
+    }
+}
+
+/// The pointwise penetration depth of two placed meshes, within `max_error` (module docs):
+/// the largest distance from a point of one surface inside the other body to the other
+/// surface. Inside is the winding number's (magnitude above 1/2); a piece of a surface that does not meet
+/// the other surface is classified by its centroid, exact for closed meshes.
+///
+/// # Errors
+/// [`OptionsError`] when `max_error` is not positive and finite.
+pub fn pointwise_penetration(
+    mesh1: &TriMesh,
+    pose1: &Pose,
+    mesh2: &TriMesh,
+    pose2: &Pose,
+    max_error: f64,
+) -> Result<PointwisePenetration, OptionsError> {
+    if !(max_error.is_finite() && max_error > 0.0) {
+        return Err(OptionsError::OutOfRange {
+            name: "max_error",
+            requirement: "must be positive and finite",
+            value: max_error,
+        });
+    }
+    let one = |a: &TriMesh, pa: &Pose, b: &TriMesh, pb: &Pose| {
+        let mut s = Inside {
+            b_mesh: b,
+            lower: 0.0,
+            witness: (Vec3::ZERO, Vec3::ZERO),
+            dropped: 0.0,
+        };
+        let upper = s.run(a, &pb.inv_mul(pa), max_error);
+        (
+            s.lower,
+            upper.max(s.lower),
+            pb.transform_point(s.witness.0),
+            pb.transform_point(s.witness.1),
+        )
+    };
+    let f = one(mesh1, pose1, mesh2, pose2);
+    let b = one(mesh2, pose2, mesh1, pose1);
+    let (win, from_first) = if b.0 > f.0 { (b, false) } else { (f, true) };
+    Ok(PointwisePenetration {
+        depth: win.0,
+        upper_bound: f.1.max(b.1),
+        point1: win.2,
+        point2: win.3,
+        from_first,
+    })
+}

@@ -1,0 +1,95 @@
+//! Pointwise penetration depth against a closed form (two overlapping boxes) and against dense
+//! sampling: every triangle of both surfaces sampled, the samples inside the other body (exact
+//! winding number) measured against its surface by brute force.
+
+#![allow(clippy::unwrap_used, clippy::panic)]
+
+mod common;
+
+use tocsin::query::distance::distance_triangle_triangle;
+use tocsin::{mesh, pointwise_penetration, winding_number, Pose, TriMesh, Vec3, WindingOptions};
+
+const EXACT: WindingOptions = WindingOptions {
+    beta: f64::INFINITY,
+};
+
+fn brute(p: Vec3, b: &TriMesh, pb: &Pose) -> f64 {
+    (0..b.num_triangles())
+        .map(|j| {
+            distance_triangle_triangle(&[p; 3], &b.triangle(j).map(|q| pb.transform_point(q)))
+                .distance
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// The largest distance to B's surface over samples of A's surface inside B.
+fn dense(a: &TriMesh, pa: &Pose, b: &TriMesh, pb: &Pose, k: usize) -> f64 {
+    let mut pts = Vec::new();
+    for i in 0..a.num_triangles() {
+        let t = a.triangle(i).map(|p| pa.transform_point(p));
+        for u in 0..=k {
+            for v in 0..=(k - u) {
+                let (s, r) = (u as f64 / k as f64, v as f64 / k as f64);
+                pts.push(t[0] + (t[1] - t[0]) * s + (t[2] - t[0]) * r);
+            }
+        }
+    }
+    let w = winding_number(b, pb, &pts, &EXACT).unwrap();
+    pts.iter()
+        .zip(&w)
+        .filter(|(_, w)| **w > 0.5)
+        .map(|(p, _)| brute(*p, b, pb))
+        .fold(0.0, f64::max)
+}
+
+#[test]
+fn two_overlapping_boxes() {
+    let cube = mesh::box_mesh(Vec3::splat(0.5)).unwrap();
+    let shifted = Pose::from_translation(Vec3::new(0.8, 0.0, 0.0));
+    let r = pointwise_penetration(&cube, &Pose::IDENTITY, &cube, &shifted, 1e-6).unwrap();
+    assert!((r.depth - 0.2).abs() < 1e-6, "{}", r.depth);
+    assert!(r.upper_bound - r.depth <= 1e-6 * (1.0 + 1e-9));
+    assert!(((r.point2 - r.point1).length() - r.depth).abs() < 1e-12);
+    let apart = Pose::from_translation(Vec3::new(3.0, 0.0, 0.0));
+    let s = pointwise_penetration(&cube, &Pose::IDENTITY, &cube, &apart, 1e-6).unwrap();
+    assert_eq!(s.depth, 0.0);
+    assert!(pointwise_penetration(&cube, &Pose::IDENTITY, &cube, &apart, 0.0).is_err());
+}
+
+#[test]
+fn against_dense_sampling_on_closed_meshes() {
+    let mut rng = common::rng(77);
+    let sphere = mesh::sphere(0.6, 8, 16).unwrap();
+    let cube = mesh::box_mesh(Vec3::new(0.5, 0.3, 0.4)).unwrap();
+    for case in 0..8 {
+        let (pa, pb) = (
+            common::random_pose(&mut rng, 0.3),
+            common::random_pose(&mut rng, 0.3),
+        );
+        let (a, b) = if case % 2 == 0 {
+            (&sphere, &cube)
+        } else {
+            (&cube, &cube)
+        };
+        let e = 1e-4;
+        let r = pointwise_penetration(a, &pa, b, &pb, e).unwrap();
+        let sampled = dense(a, &pa, b, &pb, 10).max(dense(b, &pb, a, &pa, 10));
+        assert!(
+            sampled <= r.upper_bound + 1e-12,
+            "case {case}: sampled {sampled} > {}",
+            r.upper_bound
+        );
+        assert!(
+            r.depth >= sampled - 0.02,
+            "case {case}: {} well below sampling {sampled}",
+            r.depth
+        );
+        if r.depth > 0.0 {
+            // The witness is inside the other body and at the depth from its surface.
+            let (other, po) = if r.from_first { (b, &pb) } else { (a, &pa) };
+            let w = winding_number(other, po, &[r.point1], &EXACT).unwrap()[0];
+            assert!(w > 0.5, "case {case}: witness not inside ({w})");
+            assert!((brute(r.point1, other, po) - r.depth).abs() < 1e-9);
+        }
+    }
+}
