@@ -23,11 +23,12 @@
 //!    first, each by out-projecting along its direction; the first shorter touching
 //!    translation is accepted, so the depth never grows, and the iteration ends when none is.
 //!
-//! The result is a local optimum: for convex bodies the seeds along the separating axes make it
-//! the global one in the tests (boxes, against the separating-axis oracle); for non-convex
-//! bodies it is an upper bound on the true depth (a translation that does separate them). The
-//! final configuration is checked: `collide` is false there and the distance at most the
-//! tolerance.
+//! The result is a local optimum, an upper bound on the true depth (a translation that does
+//! separate the bodies): on random overlapping boxes it is within 0.14% of the exact depth at
+//! the median and 2.4% at worst (`bench/compare_penetration.py`). That the final configuration
+//! does not intersect and is within the tolerance follows from the continuous query's contract
+//! (its time is no later than the first contact, reached from a separated start, with distance
+//! at most the tolerance); the tests check it with `collide` and `distance` on every answer.
 
 use crate::error::ContactError;
 use crate::math::{Pose, Vec3};
