@@ -113,14 +113,17 @@ def test_penetration_depth_of_boxes_and_its_guarantee():
         if exact < 1e-3:
             continue
         checked += 1
-        r = tocsin.penetration_depth(b1, p1, b2, p2)
-        assert r.status == "converged"
         tol = 1e-3 * min(b1.bounding_radius, b2.bounding_radius)
-        assert exact - 2 * tol <= r.depth <= 1.02 * exact + 2 * tol
-        after = p2.copy()
-        after[:3, 3] += r.translation
-        assert not tocsin.collide(b1, p1, b2, after)
-        assert tocsin.distance(b1, p1, b2, after).distance <= tol * (1 + 1e-9)
+        r = tocsin.penetration_depth(b1, p1, b2, p2)
+        assert r.status == "converged" and r.exact
+        assert abs(r.depth - exact) <= 1e-9 * exact
+        local = tocsin.penetration_depth(b1, p1, b2, p2, exact_convex=False)
+        assert not local.exact and exact - 2 * tol <= local.depth <= 1.03 * exact + 2 * tol
+        for res in (r, local):
+            after = p2.copy()
+            after[:3, 3] += res.translation
+            assert not tocsin.collide(b1, p1, b2, after)
+            assert tocsin.distance(b1, p1, b2, after).distance <= tol * (1 + 1e-9)
     assert checked >= 15
     apart = np.eye(4)
     apart[0, 3] = 5.0
@@ -139,3 +142,34 @@ def test_pointwise_penetration_of_overlapping_cubes():
     apart = np.eye(4)
     apart[0, 3] = 3.0
     assert tocsin.pointwise_penetration(cube, np.eye(4), cube, apart).depth == 0.0
+
+
+def test_convex_polytopes_against_the_minkowski_difference_hull():
+    """The exact depth of two convex polytopes is the distance from the origin to the boundary of
+    the convex hull of all vertex differences (scipy's ConvexHull as the independent oracle)."""
+    from scipy.spatial import ConvexHull
+
+    rng = np.random.default_rng(9)
+    checked = 0
+    for case in range(40):
+        pts_a = rng.normal(size=(rng.integers(6, 20), 3)) * rng.uniform(0.2, 1.0, 3)
+        pts_b = rng.normal(size=(rng.integers(6, 20), 3)) * rng.uniform(0.05, 1.0, 3)  # thin slabs too
+        ha, hb = ConvexHull(pts_a), ConvexHull(pts_b)
+        a = tocsin.Mesh(pts_a, ha.simplices.astype(np.int64))
+        b = tocsin.Mesh(pts_b, hb.simplices.astype(np.int64))
+        p2 = np.eye(4)
+        p2[:3, 3] = rng.normal(size=3) * rng.choice([0.05, 0.3, 0.8])  # deep and shallow
+        moved_b = pts_b + p2[:3, 3]
+        diff = (pts_a[:, None, :] - moved_b[None, :, :]).reshape(-1, 3)
+        hull = ConvexHull(diff)
+        # Inside the hull when every facet's n . x + d <= 0; the depth is min(-d) at the origin.
+        if (hull.equations[:, 3] >= 0).any():
+            continue  # separated: the origin is outside the difference
+        oracle = (-hull.equations[:, 3]).min()
+        r = tocsin.penetration_depth(a, np.eye(4), b, p2)
+        if r.status == "separated":
+            continue
+        checked += 1
+        assert r.exact
+        assert abs(r.depth - oracle) <= 1e-9 * max(oracle, 1e-12), (case, r.depth, oracle)
+    assert checked >= 20

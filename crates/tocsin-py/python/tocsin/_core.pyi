@@ -492,6 +492,9 @@ class PenetrationResult:
     def status(self) -> Literal["separated", "converged", "iteration_limit"]:
         """How the query ended."""
     @property
+    def exact(self) -> bool:
+        """Whether depth is exact (both meshes closed convex polytopes)."""
+    @property
     def translation(self) -> npt.NDArray[np.float64]:
         """Translation to apply to body 2 (world frame), (3,)."""
     @property
@@ -513,6 +516,7 @@ def penetration_depth(
     max_iterations: Optional[int] = None,
     directions: Optional[int] = None,
     cached_direction: Optional[ArrayLike] = None,
+    exact_convex: bool = True,
 ) -> PenetrationResult:
     """Translational penetration depth of mesh2 into mesh1 (PolyDepth-style local optimum)."""
 

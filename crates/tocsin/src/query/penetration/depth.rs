@@ -6,6 +6,8 @@
 //! 1. **In collision?** The bodies penetrate when their surfaces intersect (`collide`), or when
 //!    one lies inside the other (a corner of each tested with the winding number, see
 //!    [`super::winding`]); otherwise the status is [`DepthStatus::Separated`] with depth 0.
+//!    Convex pairs (both meshes closed and convex) then get the exact global depth from
+//!    [`super::convex`], when its candidate directions are not too many; the others go on:
 //! 2. **Seeds (out-projection).** For each seed direction `d` (the centroid difference, the
 //!    caller's cached direction when given, the principal axes of both root volumes both ways, a
 //!    box's face normals, and `directions` directions spread over the sphere),
@@ -35,6 +37,7 @@ use crate::math::{Pose, Vec3};
 use crate::motion::Motion;
 use crate::query::collide::collide;
 use crate::query::contact_time::{time_of_contact, ContactOptions};
+use crate::query::penetration::convex;
 use crate::query::penetration::winding::inside;
 use crate::TriMesh;
 
@@ -51,6 +54,9 @@ pub struct DepthOptions {
     pub directions: usize,
     /// A direction from an earlier query (motion coherence), tried first.
     pub cached_direction: Option<Vec3>,
+    /// Answer convex pairs exactly ([`super::convex`]). Default true; false runs the local
+    /// search on them too (to measure it).
+    pub exact_convex: bool,
 }
 
 impl Default for DepthOptions {
@@ -60,6 +66,7 @@ impl Default for DepthOptions {
             max_iterations: 32,
             directions: 26,
             cached_direction: None,
+            exact_convex: true,
         }
     }
 }
@@ -95,6 +102,10 @@ pub struct PenetrationDepth {
     pub iterations: usize,
     /// How it ended.
     pub status: DepthStatus,
+    /// Whether `depth` is the exact (global) penetration depth: both meshes are convex
+    /// polytopes (closed and convex), answered by the exact path of [`super::convex`]. Then the
+    /// translation is `depth + tolerance / 2` long, so that the bodies end apart.
+    pub exact: bool,
 }
 
 /// Seed directions: `n` points spread over the unit sphere (a cube's 26 face, edge and corner
@@ -283,6 +294,16 @@ pub fn penetration_depth(
         tolerance: options.tolerance,
         ..ContactOptions::default()
     };
+    if let Some(t) = options.tolerance {
+        if !(t.is_finite() && t > 0.0) {
+            return Err(crate::OptionsError::OutOfRange {
+                name: "tolerance",
+                requirement: "must be positive and finite",
+                value: t,
+            }
+            .into());
+        }
+    }
     if !penetrating(mesh1, pose1, mesh2, pose2) {
         return Ok(PenetrationDepth {
             depth: 0.0,
@@ -292,7 +313,34 @@ pub fn penetration_depth(
             point2: Vec3::ZERO,
             iterations: 0,
             status: DepthStatus::Separated,
+            exact: true,
         });
+    }
+    let polytopes = if options.exact_convex {
+        convex::polytope(mesh1).zip(convex::polytope(mesh2))
+    } else {
+        None
+    };
+    if let Some((a, b)) = polytopes {
+        if let Some((o, n, sa, sb)) = convex::exact_depth(mesh1, &a, pose1, mesh2, &b, pose2) {
+            let delta = options.tolerance.unwrap_or(
+                1e-3 * mesh1
+                    .bounding_radius()
+                    .min(mesh2.bounding_radius())
+                    .max(f64::MIN_POSITIVE),
+            );
+            let translation = n * (o.max(0.0) + 0.5 * delta);
+            return Ok(PenetrationDepth {
+                depth: o.max(0.0),
+                translation,
+                direction: n,
+                point1: sa,
+                point2: sb + translation,
+                iterations: 0,
+                status: DepthStatus::Converged,
+                exact: true,
+            });
+        }
     }
     let c1 = pose1.transform_point(mesh1.bvh().root().center);
     let c2 = pose2.transform_point(mesh2.bvh().root().center);
@@ -355,5 +403,6 @@ pub fn penetration_depth(
         point2: best.point2,
         iterations,
         status,
+        exact: false,
     })
 }

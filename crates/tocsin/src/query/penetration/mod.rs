@@ -11,6 +11,7 @@
 //! holes, duplicated or flipped triangles, and is the same for inside-out meshes (winding -1
 //! inside: a soup has no reliable orientation).
 
+pub mod convex;
 pub mod depth;
 pub mod hausdorff;
 pub mod pointwise;
