@@ -10,7 +10,10 @@
 //! the true value lies in `[L, L + e]` and `L` is returned with its witness points.
 //!
 //! Upper bounds: a hierarchy node of A with centre `c` and bounding radius `r` has
-//! `d(a, B) <= d(c, B) + r` (the distance to a set is 1-Lipschitz). A triangle `T` of A (and
+//! `d(a, B) <= d(c, B) + r` (the distance to a set is 1-Lipschitz), and, the node's volume being
+//! its rectangle grown by its radius, `d(a, B) <= d(a, B_j) <=` the largest `d(., B_j)` at the
+//! rectangle's corners plus the radius, for any triangle `B_j` of B (convex and 1-Lipschitz;
+//! the triangles nearest the centre and a corner are tried). A triangle `T` of A (and
 //! the four sub-triangles it is split into, recursively) has, besides that,
 //! `max over T of d(., B) = max over T of min_j d(., B_j) <= min_j max over T of d(., B_j)`, and
 //! each `d(., B_j)` (distance to one triangle of B) is convex, so its maximum over `T` is at
@@ -163,14 +166,39 @@ impl OneSided<'_> {
                 .map(|p| self.a_to_b.transform_point(p));
             return self.triangle_piece(t);
         }
-        let c = self.a_to_b.transform_point(node.rss.center);
+        let rss = &node.rss;
+        let c = self.a_to_b.transform_point(rss.center);
         let (d, _, leaf) = point_to_mesh(self.b, c, self.warm);
         self.warm = leaf;
         // A point of the node's surface keeps the lower bound moving.
         let first = self.a.leaf_triangles()[node.leaf_range().start][0];
-        self.sample(self.a_to_b.transform_point(first));
+        let (_, first_leaf) = self.sample(self.a_to_b.transform_point(first));
+        // The volume is its rectangle grown by its radius, and the distance to one triangle
+        // of B is convex and 1-Lipschitz: over the volume it is at most its largest value at
+        // the rectangle's corners plus the radius.
+        let (e0, e1) = (
+            rss.axes.x_axis * rss.half_lengths[0],
+            rss.axes.y_axis * rss.half_lengths[1],
+        );
+        let corners = [
+            rss.center + e0 + e1,
+            rss.center + e0 - e1,
+            rss.center - e0 + e1,
+            rss.center - e0 - e1,
+        ]
+        .map(|p| self.a_to_b.transform_point(p));
+        let tris = self.b.leaf_triangles();
+        let mut upper = d + rss.bounding_radius();
+        for j in [leaf, first_leaf] {
+            let bj = &tris[j as usize];
+            let worst = corners
+                .iter()
+                .map(|p| distance_triangle_triangle(&[*p; 3], bj).distance)
+                .fold(0.0_f64, f64::max);
+            upper = upper.min(worst + rss.radius);
+        }
         Piece {
-            upper: d + node.rss.bounding_radius(),
+            upper,
             kind: PieceKind::Node(i),
         }
     }
