@@ -6,8 +6,11 @@
 //! 1. **In collision?** The bodies penetrate when their surfaces intersect (`collide`), or when
 //!    one lies inside the other (a corner of each tested with the winding number, see
 //!    [`super::winding`]); otherwise the status is [`DepthStatus::Separated`] with depth 0.
-//!    Convex pairs (both meshes closed and convex) then get the exact global depth from
-//!    [`super::convex`], when its candidate directions are not too many; the others go on:
+//!    Convex pairs (both meshes closed and convex) are decided and answered before that, by
+//!    the exact path of [`super::convex`] (when its candidate directions are not too many):
+//!    they overlap when every candidate axis shows an overlap, and the smallest overlap is the
+//!    exact depth. The winding number's inside needs the triangles oriented alike (a convex
+//!    hull's need not be), so the exact path does not use it. The others go on:
 //! 2. **Seeds (out-projection).** For each seed direction `d` (the centroid difference, the
 //!    caller's cached direction when given, the principal axes of both root volumes both ways, a
 //!    box's face normals, and `directions` directions spread over the sphere), the first free
@@ -323,34 +326,38 @@ pub fn penetration_depth(
             .into());
         }
     }
-    if !penetrating(mesh1, pose1, mesh2, pose2) {
-        return Ok(PenetrationDepth {
-            depth: 0.0,
-            translation: Vec3::ZERO,
-            direction: Vec3::Z,
-            point1: Vec3::ZERO,
-            point2: Vec3::ZERO,
-            iterations: 0,
-            status: DepthStatus::Separated,
-            exact: true,
-        });
-    }
+    let separated = PenetrationDepth {
+        depth: 0.0,
+        translation: Vec3::ZERO,
+        direction: Vec3::Z,
+        point1: Vec3::ZERO,
+        point2: Vec3::ZERO,
+        iterations: 0,
+        status: DepthStatus::Separated,
+        exact: true,
+    };
     let polytopes = if options.exact_convex {
         convex::polytope(mesh1).zip(convex::polytope(mesh2))
     } else {
         None
     };
     if let Some((a, b)) = polytopes {
+        // Convex polytopes overlap exactly when every candidate axis shows an overlap: this
+        // decides "penetrating" without the winding number (whose inside needs the triangles
+        // oriented alike, which a convex hull's need not be).
         if let Some((o, n, sa, sb)) = convex::exact_depth(mesh1, &a, pose1, mesh2, &b, pose2) {
+            if o <= 0.0 {
+                return Ok(separated);
+            }
             let delta = options.tolerance.unwrap_or(
                 1e-3 * mesh1
                     .bounding_radius()
                     .min(mesh2.bounding_radius())
                     .max(f64::MIN_POSITIVE),
             );
-            let translation = n * (o.max(0.0) + 0.5 * delta);
+            let translation = n * (o + 0.5 * delta);
             return Ok(PenetrationDepth {
-                depth: o.max(0.0),
+                depth: o,
                 translation,
                 direction: n,
                 point1: sa,
@@ -360,6 +367,9 @@ pub fn penetration_depth(
                 exact: true,
             });
         }
+    }
+    if !penetrating(mesh1, pose1, mesh2, pose2) {
+        return Ok(separated);
     }
     let c1 = pose1.transform_point(mesh1.bvh().root().center);
     let c2 = pose2.transform_point(mesh2.bvh().root().center);

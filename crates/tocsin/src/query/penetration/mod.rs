@@ -9,7 +9,9 @@
 //! a point is inside where the generalized winding number's magnitude exceeds 1/2, which is the
 //! usual inside for closed, consistently oriented meshes, degrades gracefully on soups with
 //! holes, duplicated or flipped triangles, and is the same for inside-out meshes (winding -1
-//! inside: a soup has no reliable orientation).
+//! inside: a soup has no reliable orientation). It does assume the triangles are oriented
+//! alike, as a whole: a closed mesh whose triangles face both ways at random (a convex hull's
+//! simplices as scipy lists them) gets fractional values inside, and may be taken for empty.
 
 pub mod convex;
 pub mod depth;
