@@ -6,9 +6,10 @@
 //!
 //! The search is the Hausdorff distance's (`hausdorff.rs`) restricted to inside points: samples
 //! raise the lower bound only where they are inside the other body, and a piece (a node of the
-//! hierarchy, then a triangle split in four) that does not meet the other surface (its distance
-//! to it is positive) lies on one side of it, decided at its centroid: outside pieces are
-//! dropped, inside ones keep their upper bounds. For closed meshes that is exact; for soups with
+//! hierarchy, whose bounding ball is tested, then a triangle split in four) that does not meet
+//! the other surface (its distance to it is positive) lies on one side of it, decided at its
+//! centre: outside pieces are dropped (a whole subtree at once), inside ones keep their upper
+//! bounds. For closed meshes that is exact; for soups with
 //! holes, where the winding number varies without crossing the surface, a piece is classified by
 //! its centroid (said on [`pointwise_penetration`]).
 
@@ -163,11 +164,28 @@ impl Inside<'_> {
 
     fn run(&mut self, a: &TriMesh, a_to_b: &Pose, max_error: f64) -> f64 {
         let mut heap = BinaryHeap::new();
-        for i in 0..a.num_triangles() {
-            let t = a.triangle(i).map(|p| a_to_b.transform_point(p));
-            if let Some(p) = self.piece(t) {
-                heap.push(p);
+        // A's hierarchy first: a node whose bounding ball does not meet B's surface lies on
+        // one side of it (the ball is connected), decided at its centre; outside nodes are
+        // dropped whole, the triangles of the others become pieces.
+        let (nodes, tris) = (a.bvh().nodes(), a.bvh().leaf_triangles());
+        let mut stack = vec![0u32];
+        while let Some(i) = stack.pop() {
+            let node = &nodes[i as usize];
+            let c = a_to_b.transform_point(node.rss.center);
+            let (d, _, _) = triangle_to_mesh(self.b_mesh.bvh(), &[c; 3]);
+            if d > node.rss.bounding_radius() && !self.inside(c) {
+                continue;
             }
+            if node.is_leaf() {
+                let t = tris[node.leaf_position() as usize].map(|p| a_to_b.transform_point(p));
+                if let Some(p) = self.piece(t) {
+                    heap.push(p);
+                }
+                continue;
+            }
+            let (l, r) = node.children(i);
+            stack.push(l);
+            stack.push(r);
         }
         while let Some(piece) = heap.pop() {
             if piece.upper <= self.lower + max_error {
