@@ -54,8 +54,12 @@ pub struct DepthOptions {
     pub tolerance: Option<f64>,
     /// Refinement iterations at most. Default 32.
     pub max_iterations: usize,
-    /// Seed directions spread over the sphere (besides the centroid difference and the cached
-    /// direction). Default 26 (the 6 axes, 12 edge and 8 corner directions of a cube).
+    /// Seed directions spread over the sphere (besides the centroid difference, the cached
+    /// direction and the root volumes' axes), on a Fibonacci spiral. Default 32: on two
+    /// knots (2.8K, 34K triangles) and the bunny against turned copies, 26 cube directions
+    /// gave depths 2.628, 2.673, 0.850, and 27 / 40 / 64 spiral directions 2.516 / 2.479 /
+    /// 2.440, 2.634 / 2.514 / 2.634, 0.845 / 0.852 / 0.877 (a local search: the seeds decide
+    /// which local optimum is found), at 19 to 44 ms.
     pub directions: usize,
     /// A direction from an earlier query (motion coherence), tried first.
     pub cached_direction: Option<Vec3>,
@@ -69,7 +73,7 @@ impl Default for DepthOptions {
         Self {
             tolerance: None,
             max_iterations: 32,
-            directions: 26,
+            directions: 32,
             cached_direction: None,
             exact_convex: true,
         }
@@ -113,22 +117,8 @@ pub struct PenetrationDepth {
     pub exact: bool,
 }
 
-/// Seed directions: `n` points spread over the unit sphere (a cube's 26 face, edge and corner
-/// directions for the default; a Fibonacci spiral otherwise).
+/// Seed directions: `n` points spread over the unit sphere (a Fibonacci spiral).
 fn sphere_directions(n: usize) -> Vec<Vec3> {
-    if n == 26 {
-        let mut out = Vec::with_capacity(26);
-        for x in -1i32..=1 {
-            for y in -1i32..=1 {
-                for z in -1i32..=1 {
-                    if (x, y, z) != (0, 0, 0) {
-                        out.push(Vec3::new(x as f64, y as f64, z as f64).normalize());
-                    }
-                }
-            }
-        }
-        return out;
-    }
     let golden = std::f64::consts::PI * (3.0 - 5.0_f64.sqrt());
     (0..n)
         .map(|i| {
