@@ -262,3 +262,38 @@ def test_threads_query_while_another_edits_and_the_base_moves_the_robot():
     robot.base = base
     np.testing.assert_allclose(robot.base, base)
     np.testing.assert_allclose(robot.link_poses(q0)[:, :3, 3], before[:, :3, 3] + [1.0, 2.0, 3.0], atol=1e-12)
+
+
+def test_panda_near_miss_at_one_millimetre_is_free_and_a_graze_is_not():
+    """The first joint turns about the vertical axis, so every point keeps its height: a square
+    frame of slabs (clear of the base) whose top is 1 mm below the arm's lowest point misses it
+    by exactly 1 mm all along the sweep (about 1% of a link's size), and one 1 mm higher cuts
+    the fingers."""
+    robot = tocsin.Robot.from_urdf(ROOT / "data" / "franka_panda" / "panda.urdf")
+    q0 = np.array([-2.8, 0.3, 0.0, -2.0, 0.0, 2.4, 0.8, 0.04])
+    q1 = q0.copy()
+    q1[0] = 2.8
+    names = robot.object_names
+    poses = robot.object_poses(0.5 * (q0 + q1))
+    world = np.vstack(
+        [robot.object_mesh(n).vertices @ poses[names.index(n)][:3, :3].T + poses[names.index(n)][:3, 3] for n in names]
+    )
+    # The lowest point at a horizontal radius the frame can be under (its hole is 0.4 wide).
+    lowest = world[np.hypot(world[:, 0], world[:, 1]) >= 0.4, 2].min()
+    for offset, free in [(-0.001, True), (0.001, False)]:
+        scene = tocsin.Scene()
+        top = lowest + offset
+        # Four slabs forming a square frame: inner half width 0.4, outer 0.9, 0.1 thick.
+        for k, (half, centre) in enumerate(
+            [([0.9, 0.25, 0.05], [0.0, 0.65, 0.0]), ([0.9, 0.25, 0.05], [0.0, -0.65, 0.0]),
+             ([0.25, 0.4, 0.05], [0.65, 0.0, 0.0]), ([0.25, 0.4, 0.05], [-0.65, 0.0, 0.0])]
+        ):
+            pose = np.eye(4)
+            pose[:3, 3] = [centre[0], centre[1], top - 0.05]
+            scene.add(f"slab{k}", tocsin.Mesh.box(half), pose)
+        assert not robot.in_collision(q0, scene) or not free
+        assert robot.path_is_free(q0, q1, scene) == free, offset
+        got = robot.time_of_contact(q0, q1, scene)
+        assert (got is None) == free
+        if not free:
+            assert got.object2.startswith("slab") and got.object1.endswith("finger")
