@@ -46,5 +46,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<robot::Robot>()?;
     m.add_class::<robot::Scene>()?;
     m.add_class::<robot::RobotContact>()?;
+    m.add_class::<robot::RobotCache>()?;
     Ok(())
 }

@@ -320,7 +320,8 @@ impl Robot {
     /// when one collides), no later than the first collision; None when every pair stays
     /// farther apart than the tolerance. The tolerance defaults to 1e-3 of the smallest
     /// bounding radius among the robot's collision objects. Exact: no sampling.
-    #[pyo3(signature = (q0, q1, scene=None, tolerance=None, max_iterations=None))]
+    #[pyo3(signature = (q0, q1, scene=None, tolerance=None, max_iterations=None, cache=None))]
+    #[allow(clippy::too_many_arguments)]
     fn time_of_contact(
         &self,
         py: Python<'_>,
@@ -329,12 +330,19 @@ impl Robot {
         scene: Option<&Scene>,
         tolerance: Option<f64>,
         max_iterations: Option<&Bound<'_, PyAny>>,
+        cache: Option<&RobotCache>,
     ) -> PyResult<Option<RobotContact>> {
         let (a, b) = (config(q0, "q0")?, config(q1, "q1")?);
         let opts = options(py, tolerance, max_iterations)?;
         let (robot, scene) = (snapshot(&self.inner), scene_of(scene));
         let r = py
-            .detach(|| rq::time_of_contact(&robot, &a, &b, &scene, &opts))
+            .detach(|| match cache {
+                Some(c) => {
+                    let mut guard = c.inner.lock().unwrap_or_else(|p| p.into_inner());
+                    rq::time_of_contact_with_cache(&robot, &a, &b, &scene, &opts, &mut guard)
+                }
+                None => rq::time_of_contact(&robot, &a, &b, &scene, &opts),
+            })
             .map_err(|e| robot_error(py, e))?;
         Ok(r.map(RobotContact::from_core))
     }
@@ -343,7 +351,8 @@ impl Robot {
     /// every checked pair stays farther apart than the tolerance, False as soon as one is
     /// known to come within tolerance / 2 (it stops there); the same answer as
     /// `time_of_contact(...) is None`. For the last free time, use last_valid.
-    #[pyo3(signature = (q0, q1, scene=None, tolerance=None, max_iterations=None))]
+    #[pyo3(signature = (q0, q1, scene=None, tolerance=None, max_iterations=None, cache=None))]
+    #[allow(clippy::too_many_arguments)]
     fn path_is_free(
         &self,
         py: Python<'_>,
@@ -352,12 +361,19 @@ impl Robot {
         scene: Option<&Scene>,
         tolerance: Option<f64>,
         max_iterations: Option<&Bound<'_, PyAny>>,
+        cache: Option<&RobotCache>,
     ) -> PyResult<bool> {
         let (a, b) = (config(q0, "q0")?, config(q1, "q1")?);
         let opts = options(py, tolerance, max_iterations)?;
         let (robot, scene) = (snapshot(&self.inner), scene_of(scene));
-        py.detach(|| rq::path_is_free(&robot, &a, &b, &scene, &opts))
-            .map_err(|e| robot_error(py, e))
+        py.detach(|| match cache {
+            Some(c) => {
+                let mut guard = c.inner.lock().unwrap_or_else(|p| p.into_inner());
+                rq::path_is_free_with_cache(&robot, &a, &b, &scene, &opts, &mut guard)
+            }
+            None => rq::path_is_free(&robot, &a, &b, &scene, &opts),
+        })
+        .map_err(|e| robot_error(py, e))
     }
 
     /// The last time of the segment q0 -> q1 known free (what OMPL's checkMotion(s1, s2,
@@ -524,6 +540,24 @@ impl Robot {
             ));
         }
         Ok(a.into_iter().zip(b).collect())
+    }
+}
+
+/// The closest triangle pair of every robot pair seen by earlier segment checks, for warm
+/// starts: pass the same cache to the checks of the many edges a planner tries from one node
+/// (cache=...). The answers do not depend on it. Use one cache per robot and scene.
+#[pyclass(frozen, module = "tocsin._core")]
+pub(crate) struct RobotCache {
+    inner: std::sync::Mutex<rq::RobotCache>,
+}
+
+#[pymethods]
+impl RobotCache {
+    #[new]
+    fn new() -> Self {
+        Self {
+            inner: std::sync::Mutex::new(rq::RobotCache::default()),
+        }
     }
 }
 

@@ -162,9 +162,14 @@ def test_batches_match_single_calls():
     before = (q0s.copy(), q1s.copy())
     free = robot.paths_are_free(q0s, q1s, scene)
     contacts = robot.time_of_contact_batch(q0s, q1s, scene)
+    cache = tocsin.RobotCache()
     for i in range(len(q0s)):
         single = robot.time_of_contact(q0s[i], q1s[i], scene)
         assert free[i] == (single is None)
+        # A warm start changes nothing in the answers.
+        assert robot.path_is_free(q0s[i], q1s[i], scene, cache=cache) == free[i]
+        warm = robot.time_of_contact(q0s[i], q1s[i], scene, cache=cache)
+        assert (warm is None) == (single is None)
         assert (contacts[i] is None) == (single is None)
         if single is not None:
             assert contacts[i].time == single.time and contacts[i].object2 == single.object2

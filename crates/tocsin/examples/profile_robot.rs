@@ -38,6 +38,8 @@ fn main() {
     let mut free_t = Vec::new();
     let mut coll_t = Vec::new();
     let mut n_free = 0;
+    let mut shared = query::RobotCache::default();
+    let use_cache = std::env::var("CACHE").is_ok();
     let mut starts = 0;
     while free_t.len() + coll_t.len() < edges {
         let q0: Vec<f64> = match std::env::var("START") {
@@ -60,7 +62,12 @@ fn main() {
             .map(|((q, d), (lo, hi))| (q + 0.5 * d / norm).clamp(*lo, *hi))
             .collect();
         let t = Instant::now();
-        let free = query::path_is_free(&robot, &q0, &q1, &scene, &opts).expect("free");
+        let free = if use_cache {
+            query::path_is_free_with_cache(&robot, &q0, &q1, &scene, &opts, &mut shared)
+        } else {
+            query::path_is_free(&robot, &q0, &q1, &scene, &opts)
+        }
+        .expect("free");
         let dt = t.elapsed().as_secs_f64() * 1e6;
         let toc = query::time_of_contact(&robot, &q0, &q1, &scene, &opts).expect("toc");
         assert_eq!(free, toc.is_none());

@@ -637,8 +637,17 @@ fn batches_match_single_calls_and_bad_input_is_refused() {
     let opts = RobotOptions::default();
     let batch = query::time_of_contact_batch(&robot, &segments, &scene, &opts).unwrap();
     let free = query::path_is_free_batch(&robot, &segments, &scene, &opts).unwrap();
+    let mut cache = query::RobotCache::default();
     for ((s, b), f) in segments.iter().zip(&batch).zip(&free) {
         let single = query::time_of_contact(&robot, &s.0, &s.1, &scene, &opts).unwrap();
+        // Warm starts from earlier segments change no answer.
+        let warm =
+            query::path_is_free_with_cache(&robot, &s.0, &s.1, &scene, &opts, &mut cache).unwrap();
+        assert_eq!(warm, single.is_none());
+        let warm_toc =
+            query::time_of_contact_with_cache(&robot, &s.0, &s.1, &scene, &opts, &mut cache)
+                .unwrap();
+        assert_eq!(warm_toc.is_none(), single.is_none());
         assert_eq!(b.as_ref().unwrap(), &single);
         assert_eq!(*f.as_ref().unwrap(), single.is_none());
     }

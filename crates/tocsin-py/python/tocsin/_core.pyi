@@ -19,6 +19,7 @@ __all__ = [
     "PenetrationResult",
     "PointwiseResult",
     "Robot",
+    "RobotCache",
     "RobotContact",
     "Scene",
     "_collide_batch",
@@ -350,6 +351,7 @@ class Robot:
         scene: Optional[Scene] = None,
         tolerance: Optional[float] = None,
         max_iterations: Optional[int] = None,
+        cache: Optional[RobotCache] = None,
     ) -> Optional[RobotContact]:
         """First time of contact along q0 -> q1 with itself or the scene (exact)."""
     def path_is_free(
@@ -359,6 +361,7 @@ class Robot:
         scene: Optional[Scene] = None,
         tolerance: Optional[float] = None,
         max_iterations: Optional[int] = None,
+        cache: Optional[RobotCache] = None,
     ) -> bool:
         """Whether the segment q0 -> q1 is free (exact; stops as soon as it is known)."""
     def last_valid(
@@ -544,3 +547,9 @@ def pointwise_penetration(
     mesh1: Mesh, pose1: ArrayLike, mesh2: Mesh, pose2: ArrayLike, max_error: Optional[float] = None
 ) -> PointwiseResult:
     """Pointwise penetration depth of two placed meshes, within max_error."""
+
+@final
+class RobotCache:
+    """Closest triangle pairs of earlier segment checks, for warm starts (cache=...)."""
+
+    def __new__(cls) -> RobotCache: ...

@@ -387,7 +387,11 @@ impl<'r> Segment<'r> {
     }
 
     /// Advances every candidate; `first_only` stops at the first contact found.
-    fn run(&self, first_only: bool) -> Result<Option<RobotContact>, RobotError> {
+    fn run(
+        &self,
+        first_only: bool,
+        warm: &mut Option<&mut RobotCache>,
+    ) -> Result<Option<RobotContact>, RobotError> {
         type Found = (f64, Pair, crate::query::contact_time::Ends, ContactCache);
         let mut best: Option<Found> = None;
         let candidates = self.candidates();
@@ -430,7 +434,11 @@ impl<'r> Segment<'r> {
                 first_window: FIRST_WINDOW,
                 slack: (FAR_SLACK, NEAR_SLACK),
             };
-            let mut cache = ContactCache::default();
+            let key = (pair.a, pair.b, pair.obstacle);
+            let mut cache = warm
+                .as_ref()
+                .and_then(|w| w.pairs.get(&key).copied())
+                .unwrap_or_default();
             let found = if first_only {
                 // A yes/no answer: a pair still undecided after a few iterations is probed
                 // for a collision at the end of its span, which settles a colliding edge
@@ -459,6 +467,9 @@ impl<'r> Segment<'r> {
             } else {
                 advance_paths(m1, p1, m2, p2, &span, &mut cache)?
             };
+            if let Some(w) = warm.as_mut() {
+                w.pairs.insert(key, cache);
+            }
             if let Some(ends) = found {
                 if best.as_ref().is_none_or(|b| ends.time < b.0) {
                     best = Some((ends.time, pair, ends, cache));
@@ -564,7 +575,7 @@ pub fn time_of_contact(
     scene: &Scene,
     options: &RobotOptions,
 ) -> Result<Option<RobotContact>, RobotError> {
-    Segment::new(robot, q0, q1, scene, options)?.run(false)
+    Segment::new(robot, q0, q1, scene, options)?.run(false, &mut None)
 }
 
 /// Whether the segment `q0 -> q1` is free: `true` when every checked pair stays farther apart
@@ -583,7 +594,48 @@ pub fn path_is_free(
     options: &RobotOptions,
 ) -> Result<bool, RobotError> {
     Ok(Segment::new(robot, q0, q1, scene, options)?
-        .run(true)?
+        .run(true, &mut None)?
+        .is_none())
+}
+
+/// The closest triangle pair of every robot pair seen by earlier segment checks: a planner
+/// checks many edges from one node, and the pairs' closest features change little between them.
+/// Passing one cache to the `_with_cache` queries warm-starts each pair's advancement from its
+/// last closest pair (the answers do not depend on it). Valid for one robot and scene.
+#[derive(Clone, Debug, Default)]
+pub struct RobotCache {
+    pairs: std::collections::HashMap<(usize, usize, bool), ContactCache>,
+}
+
+/// [`time_of_contact`] warm-started from, and updating, `cache`.
+///
+/// # Errors
+/// As [`time_of_contact`].
+pub fn time_of_contact_with_cache(
+    robot: &Robot,
+    q0: &[f64],
+    q1: &[f64],
+    scene: &Scene,
+    options: &RobotOptions,
+    cache: &mut RobotCache,
+) -> Result<Option<RobotContact>, RobotError> {
+    Segment::new(robot, q0, q1, scene, options)?.run(false, &mut Some(cache))
+}
+
+/// [`path_is_free`] warm-started from, and updating, `cache`.
+///
+/// # Errors
+/// As [`path_is_free`].
+pub fn path_is_free_with_cache(
+    robot: &Robot,
+    q0: &[f64],
+    q1: &[f64],
+    scene: &Scene,
+    options: &RobotOptions,
+    cache: &mut RobotCache,
+) -> Result<bool, RobotError> {
+    Ok(Segment::new(robot, q0, q1, scene, options)?
+        .run(true, &mut Some(cache))?
         .is_none())
 }
 
