@@ -47,15 +47,22 @@ fn rss_point_bound(rss: &Rss, p: Vec3) -> f64 {
 }
 
 /// Exact distance from the triangle `t` (B's frame) to B, the closest point on B (meaningful
-/// when `t` is a point: all corners equal) and the leaf position of B's closest triangle.
-fn triangle_to_mesh(bvh: &Bvh, t: &[Vec3; 3]) -> (f64, Vec3, u32) {
+/// when `t` is a point: all corners equal) and the leaf position of B's closest triangle. `warm`
+/// (a leaf position) is tried first; the search stops once a distance of 0 is found (the
+/// triangle meets B's surface: nothing is closer).
+fn triangle_to_mesh(bvh: &Bvh, t: &[Vec3; 3], warm: u32) -> (f64, Vec3, u32) {
     let nodes = bvh.nodes();
     let tris = bvh.leaf_triangles();
     let c = (t[0] + t[1] + t[2]) / 3.0;
     let r = t.iter().fold(0.0_f64, |m, p| m.max((*p - c).length()));
-    let (mut best, mut closest, mut leaf) = (f64::INFINITY, Vec3::ZERO, 0u32);
+    let w = (warm as usize).min(tris.len() - 1);
+    let first = distance_triangle_triangle(t, &tris[w]);
+    let (mut best, mut closest, mut leaf) = (first.distance, first.point2, w as u32);
     let mut stack = vec![0u32];
     while let Some(i) = stack.pop() {
+        if best <= 0.0 {
+            break;
+        }
         let node = &nodes[i as usize];
         if rss_point_bound(&node.rss, c) - r >= best {
             continue;
@@ -110,6 +117,8 @@ struct Inside<'a> {
     lower: f64,
     witness: (Vec3, Vec3),
     dropped: f64,
+    /// The last closest triangle of B (neighbouring queries start from it).
+    warm: u32,
 }
 
 impl Inside<'_> {
@@ -120,7 +129,8 @@ impl Inside<'_> {
     /// Samples `p` (a point of A): raises the lower bound if it is inside B. Returns the
     /// distance to B and the leaf position of B's closest triangle.
     fn sample(&mut self, p: Vec3) -> (f64, u32) {
-        let (d, q, leaf) = triangle_to_mesh(self.b_mesh.bvh(), &[p; 3]);
+        let (d, q, leaf) = triangle_to_mesh(self.b_mesh.bvh(), &[p; 3], self.warm);
+        self.warm = leaf;
         if d > self.lower && self.inside(p) {
             self.lower = d;
             self.witness = (p, q);
@@ -131,7 +141,8 @@ impl Inside<'_> {
     /// The piece's upper bound, or `None` when it lies outside B (it does not meet B's surface
     /// and its centroid is outside).
     fn piece(&mut self, t: [Vec3; 3]) -> Option<Piece> {
-        let (gap, _, _) = triangle_to_mesh(self.b_mesh.bvh(), &t);
+        let (gap, _, leaf) = triangle_to_mesh(self.b_mesh.bvh(), &t, self.warm);
+        self.warm = leaf;
         let c = (t[0] + t[1] + t[2]) / 3.0;
         if gap > 0.0 && !self.inside(c) {
             return None;
@@ -172,7 +183,8 @@ impl Inside<'_> {
         while let Some(i) = stack.pop() {
             let node = &nodes[i as usize];
             let c = a_to_b.transform_point(node.rss.center);
-            let (d, _, _) = triangle_to_mesh(self.b_mesh.bvh(), &[c; 3]);
+            let (d, _, leaf) = triangle_to_mesh(self.b_mesh.bvh(), &[c; 3], self.warm);
+            self.warm = leaf;
             if d > node.rss.bounding_radius() && !self.inside(c) {
                 continue;
             }
@@ -243,6 +255,7 @@ pub fn pointwise_penetration(
             lower: 0.0,
             witness: (Vec3::ZERO, Vec3::ZERO),
             dropped: 0.0,
+            warm: 0,
         };
         let upper = s.run(a, &pb.inv_mul(pa), max_error);
         (
