@@ -7,7 +7,7 @@ use crate::convert::{as_array, pose_from, pose_to_numpy, vec3};
 use crate::errors::{contact_error, count, error, mesh_error};
 use crate::mesh::Mesh;
 use crate::pool;
-use numpy::{PyArray1, PyArray3, PyArrayMethods};
+use numpy::{PyArray1, PyArray3, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use std::path::PathBuf;
 use std::sync::{Arc, RwLock};
@@ -83,7 +83,8 @@ fn configs(obj: &Bound<'_, PyAny>, dof: usize, what: &str) -> PyResult<Vec<Vec<f
         .as_slice()
         .map_err(|e| error(obj.py(), "ConfigurationError", e.to_string()))?;
     Ok(if dof == 0 {
-        Vec::new()
+        // Rows of nothing: the count comes from the shape.
+        vec![Vec::new(); a.shape()[0]]
     } else {
         s.chunks_exact(dof).map(<[f64]>::to_vec).collect()
     })

@@ -302,3 +302,22 @@ def test_panda_near_miss_at_one_millimetre_is_free_and_a_graze_is_not():
         assert (got is None) == free
         if not free:
             assert got.object2.startswith("slab") and got.object1.endswith("finger")
+
+
+def test_robots_without_joints_or_geometry():
+    fixed = tocsin.Robot.from_urdf_string(
+        "<robot name='r'><link name='a'><collision><geometry><box size='1 1 1'/></geometry></collision></link></robot>"
+    )
+    assert fixed.dof == 0 and fixed.link_poses(np.zeros(0)).shape == (1, 4, 4)
+    scene = tocsin.Scene()
+    far = np.eye(4)
+    far[0, 3] = 5.0
+    scene.add("o", tocsin.Mesh.box([0.1] * 3), far)
+    assert fixed.path_is_free(np.zeros(0), np.zeros(0), scene)
+    assert fixed.check_configurations(np.zeros((3, 0)), scene).tolist() == [False] * 3
+    assert fixed.paths_are_free(np.zeros((2, 0)), np.zeros((2, 0)), scene).tolist() == [True] * 2
+    bare = tocsin.Robot.from_urdf_string(
+        "<robot name='r'><link name='a'/><link name='b'/><joint name='j' type='revolute'><parent link='a'/>"
+        "<child link='b'/><axis xyz='0 0 1'/><limit lower='-1' upper='1' effort='1' velocity='1'/></joint></robot>"
+    )
+    assert bare.path_is_free([0.0], [1.0]) and bare.time_of_contact([0.0], [1.0]) is None
