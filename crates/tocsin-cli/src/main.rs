@@ -285,12 +285,8 @@ fn run(cli: Cli) -> Result<serde_json::Value, String> {
             symmetric,
         } => {
             let (m1, p1, m2, p2) = setup(&pair)?;
-            let e = max_error.unwrap_or(
-                1e-4 * m1
-                    .bounding_radius()
-                    .min(m2.bounding_radius())
-                    .max(f64::MIN_POSITIVE),
-            );
+            let e = max_error
+                .unwrap_or_else(|| tocsin::query::penetration::default_max_error(&m1, &m2));
             let start = std::time::Instant::now();
             let r = tocsin::hausdorff_distance(&m1, &p1, &m2, &p2, e, symmetric)
                 .map_err(|e| e.to_string())?;

@@ -7,6 +7,7 @@ use crate::mesh::Mesh;
 use crate::pool;
 use numpy::PyArray1;
 use pyo3::prelude::*;
+use tocsin::query::penetration::default_max_error;
 use tocsin::{DepthOptions, DepthStatus, Vec3, WindingOptions};
 
 fn points(obj: &Bound<'_, PyAny>) -> PyResult<Vec<Vec3>> {
@@ -68,11 +69,11 @@ pub(crate) fn contains<'py>(
 /// The Hausdorff distance found, within the error bound, and where.
 #[pyclass(frozen, module = "tocsin._core")]
 pub(crate) struct HausdorffResult {
-    /// A value attained by a surface point: at most the true distance, at least it minus
-    /// max_error.
+    /// A value attained by a surface point (model units, >= 0): at most the true distance, at
+    /// least it minus max_error.
     #[pyo3(get)]
     distance: f64,
-    /// An upper bound on the true distance (upper_bound - distance <= max_error).
+    /// An upper bound on the true distance (model units; upper_bound - distance <= max_error).
     #[pyo3(get)]
     upper_bound: f64,
     /// Whether point1 is on mesh1 (False: the symmetric distance is realised from mesh2).
@@ -124,12 +125,7 @@ pub(crate) fn hausdorff_distance(
 ) -> PyResult<HausdorffResult> {
     let (p1, p2) = (pose_from(pose1, "pose1")?, pose_from(pose2, "pose2")?);
     let (m1, m2) = (mesh1.inner.clone(), mesh2.inner.clone());
-    let e = max_error.unwrap_or_else(|| {
-        1e-4 * m1
-            .bounding_radius()
-            .min(m2.bounding_radius())
-            .max(f64::MIN_POSITIVE)
-    });
+    let e = max_error.unwrap_or_else(|| default_max_error(&m1, &m2));
     let r = py
         .detach(|| tocsin::hausdorff_distance(&m1, &p1, &m2, &p2, e, symmetric))
         .map_err(|e| options_error(py, e))?;
@@ -268,10 +264,11 @@ pub(crate) fn penetration_depth(
 /// The deepest interpenetrating points found (pointwise penetration depth).
 #[pyclass(frozen, module = "tocsin._core")]
 pub(crate) struct PointwiseResult {
-    /// Depth attained: distance from point1 (inside the other body) to the other surface.
+    /// Depth attained (model units, >= 0): distance from point1 (inside the other body) to
+    /// the other surface.
     #[pyo3(get)]
     depth: f64,
-    /// Upper bound on the true pointwise depth.
+    /// Upper bound on the true pointwise depth (model units).
     #[pyo3(get)]
     upper_bound: f64,
     /// Whether point1 is on mesh1 (inside mesh2); False: on mesh2 inside mesh1.
@@ -320,12 +317,7 @@ pub(crate) fn pointwise_penetration(
 ) -> PyResult<PointwiseResult> {
     let (p1, p2) = (pose_from(pose1, "pose1")?, pose_from(pose2, "pose2")?);
     let (m1, m2) = (mesh1.inner.clone(), mesh2.inner.clone());
-    let e = max_error.unwrap_or_else(|| {
-        1e-4 * m1
-            .bounding_radius()
-            .min(m2.bounding_radius())
-            .max(f64::MIN_POSITIVE)
-    });
+    let e = max_error.unwrap_or_else(|| default_max_error(&m1, &m2));
     let r = py
         .detach(|| tocsin::pointwise_penetration(&m1, &p1, &m2, &p2, e))
         .map_err(|e| options_error(py, e))?;

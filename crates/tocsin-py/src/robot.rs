@@ -333,9 +333,13 @@ impl Robot {
         max_iterations: Option<&Bound<'_, PyAny>>,
         cache: Option<&RobotCache>,
     ) -> PyResult<Option<RobotContact>> {
-        let (a, b) = (config(q0, "q0")?, config(q1, "q1")?);
-        let opts = options(py, tolerance, max_iterations)?;
-        let (robot, scene) = (snapshot(&self.inner), scene_of(scene));
+        let SegmentCall {
+            a,
+            b,
+            opts,
+            robot,
+            scene,
+        } = self.segment_call(py, q0, q1, scene, tolerance, max_iterations)?;
         let r = py
             .detach(|| match cache {
                 Some(c) => {
@@ -364,9 +368,13 @@ impl Robot {
         max_iterations: Option<&Bound<'_, PyAny>>,
         cache: Option<&RobotCache>,
     ) -> PyResult<bool> {
-        let (a, b) = (config(q0, "q0")?, config(q1, "q1")?);
-        let opts = options(py, tolerance, max_iterations)?;
-        let (robot, scene) = (snapshot(&self.inner), scene_of(scene));
+        let SegmentCall {
+            a,
+            b,
+            opts,
+            robot,
+            scene,
+        } = self.segment_call(py, q0, q1, scene, tolerance, max_iterations)?;
         py.detach(|| match cache {
             Some(c) => {
                 let mut guard = c.inner.lock().unwrap_or_else(|p| p.into_inner());
@@ -391,9 +399,13 @@ impl Robot {
         tolerance: Option<f64>,
         max_iterations: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<f64> {
-        let (a, b) = (config(q0, "q0")?, config(q1, "q1")?);
-        let opts = options(py, tolerance, max_iterations)?;
-        let (robot, scene) = (snapshot(&self.inner), scene_of(scene));
+        let SegmentCall {
+            a,
+            b,
+            opts,
+            robot,
+            scene,
+        } = self.segment_call(py, q0, q1, scene, tolerance, max_iterations)?;
         py.detach(|| -> Result<f64, RobotError> {
             if rq::path_is_free(&robot, &a, &b, &scene, &opts)? {
                 return Ok(1.0);
@@ -504,7 +516,35 @@ impl Robot {
     }
 }
 
+/// What every single-segment query parses first: both configurations, the options, and
+/// snapshots of the robot and scene (taken before the GIL is released).
+struct SegmentCall {
+    a: Vec<f64>,
+    b: Vec<f64>,
+    opts: RobotOptions,
+    robot: Arc<tocsin::Robot>,
+    scene: Arc<CoreScene>,
+}
+
 impl Robot {
+    fn segment_call(
+        &self,
+        py: Python<'_>,
+        q0: &Bound<'_, PyAny>,
+        q1: &Bound<'_, PyAny>,
+        scene: Option<&Scene>,
+        tolerance: Option<f64>,
+        max_iterations: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<SegmentCall> {
+        Ok(SegmentCall {
+            a: config(q0, "q0")?,
+            b: config(q1, "q1")?,
+            opts: options(py, tolerance, max_iterations)?,
+            robot: snapshot(&self.inner),
+            scene: scene_of(scene),
+        })
+    }
+
     fn poses_array<'py>(
         &self,
         py: Python<'py>,
@@ -630,7 +670,7 @@ pub(crate) struct RobotContact {
     /// Whether object2 is part of the robot.
     #[pyo3(get)]
     self_collision: bool,
-    /// Distance at `time` (at most the tolerance).
+    /// Distance between the two objects at `time` (model units, >= 0, at most the tolerance).
     #[pyo3(get)]
     distance: f64,
     /// Advancement iterations of the pair that made the contact.

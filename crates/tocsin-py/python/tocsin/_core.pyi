@@ -435,7 +435,7 @@ class RobotContact:
         """Unit normal from object1 to object2, world frame, shape (3,)."""
     @property
     def distance(self) -> float:
-        """Distance at time (at most the tolerance)."""
+        """Distance between the two objects at time (model units, at most the tolerance)."""
     @property
     def iterations(self) -> int:
         """Advancement iterations of the pair that made the contact."""

@@ -146,7 +146,7 @@ pub struct RobotContact {
     pub point2: Vec3,
     /// Unit normal from `object1` to `object2`, world frame (rules of the rigid query).
     pub normal: Vec3,
-    /// Distance at `time` (at most the tolerance).
+    /// Distance between the two objects at `time` (model units, >= 0, at most the tolerance).
     pub distance: f64,
     /// Advancement iterations of the pair that made the contact.
     pub iterations: usize,

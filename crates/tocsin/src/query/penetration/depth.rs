@@ -41,7 +41,7 @@ use crate::error::ContactError;
 use crate::math::{Pose, Vec3};
 use crate::motion::Motion;
 use crate::query::collide::collide;
-use crate::query::contact_time::{time_of_contact, ContactOptions};
+use crate::query::contact_time::{effective_tolerance, time_of_contact, ContactOptions};
 use crate::query::penetration::convex;
 use crate::query::penetration::winding::inside;
 use crate::TriMesh;
@@ -339,11 +339,13 @@ pub fn penetration_depth(
             if o <= 0.0 {
                 return Ok(separated);
             }
-            let delta = options.tolerance.unwrap_or(
-                1e-3 * mesh1
-                    .bounding_radius()
-                    .min(mesh2.bounding_radius())
-                    .max(f64::MIN_POSITIVE),
+            // The tolerance the continuous queries of the other path would use.
+            let delta = effective_tolerance(
+                mesh1,
+                &Motion::stationary(*pose1),
+                mesh2,
+                &Motion::stationary(*pose2),
+                &contact_options,
             );
             let translation = n * (o + 0.5 * delta);
             return Ok(PenetrationDepth {

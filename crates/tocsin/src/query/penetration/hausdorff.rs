@@ -24,19 +24,20 @@
 
 use std::collections::BinaryHeap;
 
-use crate::bvh::{Bvh, Rss};
+use crate::bvh::Bvh;
 use crate::error::OptionsError;
 use crate::math::{Pose, Vec3};
-use crate::query::distance::distance_triangle_triangle;
+use crate::query::penetration::surface::{corner_bound, split4, triangle_to_mesh, Ranked};
 use crate::TriMesh;
 
 /// The Hausdorff distance found and where.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct HausdorffResult {
-    /// A value attained by a point of the surface: `d(point1, other mesh)`, at most the true
-    /// Hausdorff distance and at least it minus the error bound.
+    /// A value attained by a point of the surface (model units, >= 0): `d(point1, other mesh)`,
+    /// at most the true Hausdorff distance and at least it minus the error bound.
     pub distance: f64,
-    /// An upper bound on the true Hausdorff distance (`distance <= true <= upper_bound`,
+    /// An upper bound on the true Hausdorff distance (model units; `distance <= true <=
+    /// upper_bound`,
     /// `upper_bound - distance <= max_error`).
     pub upper_bound: f64,
     /// The point realising `distance`, on the mesh it is measured from (world frame).
@@ -48,81 +49,13 @@ pub struct HausdorffResult {
     pub from_first: bool,
 }
 
-/// Distance from `p` (B's frame) to B, below `cutoff` when it is; the closest point and the
-/// triangle's leaf position. `warm` is a leaf tried first.
-fn point_to_mesh(bvh: &Bvh, p: Vec3, warm: u32) -> (f64, Vec3, u32) {
-    let nodes = bvh.nodes();
-    let tris = bvh.leaf_triangles();
-    let point = [p; 3];
-    let w = (warm as usize).min(tris.len() - 1);
-    let first = distance_triangle_triangle(&point, &tris[w]);
-    let (mut best, mut closest, mut leaf) = (first.distance, first.point2, w as u32);
-    let mut stack: Vec<(u32, f64)> = vec![(0, rss_point_bound(&nodes[0].rss, p))];
-    while let Some((i, lb)) = stack.pop() {
-        if lb >= best {
-            continue;
-        }
-        let node = &nodes[i as usize];
-        if node.is_leaf() {
-            let pos = node.leaf_position();
-            let d = distance_triangle_triangle(&point, &tris[pos as usize]);
-            if d.distance < best {
-                (best, closest, leaf) = (d.distance, d.point2, pos);
-            }
-            continue;
-        }
-        let (l, r) = node.children(i);
-        let (bl, br) = (
-            rss_point_bound(&nodes[l as usize].rss, p),
-            rss_point_bound(&nodes[r as usize].rss, p),
-        );
-        // Nearer child on top.
-        if bl <= br {
-            stack.push((r, br));
-            stack.push((l, bl));
-        } else {
-            stack.push((l, bl));
-            stack.push((r, br));
-        }
-    }
-    (best, closest, leaf)
-}
-
-/// A lower bound on the distance from `p` to the volume.
-#[inline]
-fn rss_point_bound(rss: &Rss, p: Vec3) -> f64 {
-    let q = rss.axes.transpose() * (p - rss.center);
-    let dx = (q.x.abs() - rss.half_lengths[0]).max(0.0);
-    let dy = (q.y.abs() - rss.half_lengths[1]).max(0.0);
-    ((dx * dx + dy * dy + q.z * q.z).sqrt() - rss.radius).max(0.0)
-}
-
-/// A piece of A waiting: a node of A's hierarchy or a (sub)triangle, with its upper bound.
-struct Piece {
-    upper: f64,
-    kind: PieceKind,
-}
+/// A piece of A waiting: a node of A's hierarchy or a (sub)triangle, ranked by its upper
+/// bound.
+type Piece = Ranked<PieceKind>;
 
 enum PieceKind {
     Node(u32),
     Triangle([Vec3; 3]),
-}
-
-impl PartialEq for Piece {
-    fn eq(&self, other: &Self) -> bool {
-        self.upper == other.upper
-    }
-}
-impl Eq for Piece {}
-impl PartialOrd for Piece {
-    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
-        Some(self.cmp(other))
-    }
-}
-impl Ord for Piece {
-    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
-        self.upper.total_cmp(&other.upper)
-    }
 }
 
 /// The one-sided search from A to B, both in B's frame (A's points mapped by `a_to_b`).
@@ -149,7 +82,7 @@ impl OneSided<'_> {
 
     /// Exact `d(p, B)` at a surface point of A, raising the lower bound.
     fn sample(&mut self, p: Vec3) -> (f64, u32) {
-        let (d, q, leaf) = point_to_mesh(self.b, p, self.warm);
+        let (d, q, leaf) = triangle_to_mesh(self.b, &[p; 3], self.warm);
         self.warm = leaf;
         if d > self.lower {
             self.lower = d;
@@ -168,7 +101,7 @@ impl OneSided<'_> {
         }
         let rss = &node.rss;
         let c = self.a_to_b.transform_point(rss.center);
-        let (d, _, leaf) = point_to_mesh(self.b, c, self.warm);
+        let (d, _, leaf) = triangle_to_mesh(self.b, &[c; 3], self.warm);
         self.warm = leaf;
         // A point of the node's surface keeps the lower bound moving.
         let first = self.a.leaf_triangles()[node.leaf_range().start][0];
@@ -187,19 +120,11 @@ impl OneSided<'_> {
             rss.center - e0 - e1,
         ]
         .map(|p| self.a_to_b.transform_point(p));
-        let tris = self.b.leaf_triangles();
-        let mut upper = d + rss.bounding_radius();
-        for j in [leaf, first_leaf] {
-            let bj = &tris[j as usize];
-            let worst = corners
-                .iter()
-                .map(|p| distance_triangle_triangle(&[*p; 3], bj).distance)
-                .fold(0.0_f64, f64::max);
-            upper = upper.min(worst + rss.radius);
-        }
+        let upper = (d + rss.bounding_radius())
+            .min(corner_bound(self.b, &corners, &[leaf, first_leaf]) + rss.radius);
         Piece {
             upper,
-            kind: PieceKind::Node(i),
+            item: PieceKind::Node(i),
         }
     }
 
@@ -215,19 +140,10 @@ impl OneSided<'_> {
         let c = (t[0] + t[1] + t[2]) / 3.0;
         let (dc, _) = self.sample(c);
         let r = t.iter().fold(0.0_f64, |m, p| m.max((*p - c).length()));
-        let mut upper = dc + r;
-        let tris = self.b.leaf_triangles();
-        for &j in &leaves {
-            let bj = &tris[j as usize];
-            let worst = t
-                .iter()
-                .map(|p| distance_triangle_triangle(&[*p; 3], bj).distance)
-                .fold(0.0_f64, f64::max);
-            upper = upper.min(worst);
-        }
+        let upper = (dc + r).min(corner_bound(self.b, &t, &leaves));
         Piece {
             upper: upper.max(corner_max),
-            kind: PieceKind::Triangle(t),
+            item: PieceKind::Triangle(t),
         }
     }
 
@@ -240,7 +156,7 @@ impl OneSided<'_> {
                 // The largest bound left is within the error: done.
                 return piece.upper.max(self.lower).max(self.dropped);
             }
-            match piece.kind {
+            match piece.item {
                 PieceKind::Node(i) => {
                     let (l, r) = self.a.nodes()[i as usize].children(i);
                     for c in [l, r] {
@@ -249,17 +165,7 @@ impl OneSided<'_> {
                     }
                 }
                 PieceKind::Triangle(t) => {
-                    let m = [
-                        (t[0] + t[1]) * 0.5,
-                        (t[1] + t[2]) * 0.5,
-                        (t[2] + t[0]) * 0.5,
-                    ];
-                    for sub in [
-                        [t[0], m[0], m[2]],
-                        [m[0], t[1], m[1]],
-                        [m[2], m[1], t[2]],
-                        [m[0], m[1], m[2]],
-                    ] {
+                    for sub in split4(t) {
                         let p = self.triangle_piece(sub);
                         self.keep(&mut heap, p, max_error);
                     }

@@ -17,9 +17,19 @@ pub mod convex;
 pub mod depth;
 pub mod hausdorff;
 pub mod pointwise;
+mod surface;
 pub mod winding;
 
 pub use depth::{penetration_depth, DepthOptions, DepthStatus, PenetrationDepth};
 pub use hausdorff::{hausdorff_distance, HausdorffResult};
 pub use pointwise::{pointwise_penetration, PointwisePenetration};
 pub use winding::{contains, winding_number, WindingOptions};
+
+/// The default error bound of the Hausdorff and pointwise-depth queries: `1e-4` of the smaller
+/// bounding radius (model units).
+pub fn default_max_error(mesh1: &crate::TriMesh, mesh2: &crate::TriMesh) -> f64 {
+    1e-4 * mesh1
+        .bounding_radius()
+        .min(mesh2.bounding_radius())
+        .max(f64::MIN_POSITIVE)
+}

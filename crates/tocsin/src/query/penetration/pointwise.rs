@@ -15,10 +15,9 @@
 
 use std::collections::BinaryHeap;
 
-use crate::bvh::{Bvh, Rss};
 use crate::error::OptionsError;
 use crate::math::{Pose, Vec3};
-use crate::query::distance::distance_triangle_triangle;
+use crate::query::penetration::surface::{corner_bound, split4, triangle_to_mesh, Ranked};
 use crate::query::penetration::winding::inside;
 use crate::TriMesh;
 
@@ -27,7 +26,7 @@ use crate::TriMesh;
 pub struct PointwisePenetration {
     /// Depth attained (model units, >= 0; 0 when no part of either surface is inside the other).
     pub depth: f64,
-    /// Upper bound on the true pointwise depth (`depth <= true <= upper_bound`).
+    /// Upper bound on the true pointwise depth (model units; `depth <= true <= upper_bound`).
     pub upper_bound: f64,
     /// The deepest point found, on the surface of the body it belongs to (world frame).
     pub point1: Vec3,
@@ -37,79 +36,8 @@ pub struct PointwisePenetration {
     pub from_first: bool,
 }
 
-/// A lower bound on the distance from `p` to the volume.
-#[inline]
-fn rss_point_bound(rss: &Rss, p: Vec3) -> f64 {
-    let q = rss.axes.transpose() * (p - rss.center);
-    let dx = (q.x.abs() - rss.half_lengths[0]).max(0.0);
-    let dy = (q.y.abs() - rss.half_lengths[1]).max(0.0);
-    ((dx * dx + dy * dy + q.z * q.z).sqrt() - rss.radius).max(0.0)
-}
-
-/// Exact distance from the triangle `t` (B's frame) to B, the closest point on B (meaningful
-/// when `t` is a point: all corners equal) and the leaf position of B's closest triangle. `warm`
-/// (a leaf position) is tried first; the search stops once a distance of 0 is found (the
-/// triangle meets B's surface: nothing is closer).
-fn triangle_to_mesh(bvh: &Bvh, t: &[Vec3; 3], warm: u32) -> (f64, Vec3, u32) {
-    let nodes = bvh.nodes();
-    let tris = bvh.leaf_triangles();
-    let c = (t[0] + t[1] + t[2]) / 3.0;
-    let r = t.iter().fold(0.0_f64, |m, p| m.max((*p - c).length()));
-    let w = (warm as usize).min(tris.len() - 1);
-    let first = distance_triangle_triangle(t, &tris[w]);
-    let (mut best, mut closest, mut leaf) = (first.distance, first.point2, w as u32);
-    let mut stack = vec![0u32];
-    while let Some(i) = stack.pop() {
-        if best <= 0.0 {
-            break;
-        }
-        let node = &nodes[i as usize];
-        if rss_point_bound(&node.rss, c) - r >= best {
-            continue;
-        }
-        if node.is_leaf() {
-            let d = distance_triangle_triangle(t, &tris[node.leaf_position() as usize]);
-            if d.distance < best {
-                (best, closest, leaf) = (d.distance, d.point2, node.leaf_position());
-            }
-            continue;
-        }
-        let (l, rr) = node.children(i);
-        let (bl, br) = (
-            rss_point_bound(&nodes[l as usize].rss, c),
-            rss_point_bound(&nodes[rr as usize].rss, c),
-        );
-        if bl <= br {
-            stack.push(rr);
-            stack.push(l);
-        } else {
-            stack.push(l);
-            stack.push(rr);
-        }
-    }
-    (best, closest, leaf)
-}
-
-struct Piece {
-    upper: f64,
-    tri: [Vec3; 3],
-}
-impl PartialEq for Piece {
-    fn eq(&self, other: &Self) -> bool {
-        self.upper == other.upper
-    }
-}
-impl Eq for Piece {}
-impl PartialOrd for Piece {
-    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
-        Some(self.cmp(other))
-    }
-}
-impl Ord for Piece {
-    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
-        self.upper.total_cmp(&other.upper)
-    }
-}
+/// A (sub)triangle of A waiting, ranked by its upper bound.
+type Piece = Ranked<[Vec3; 3]>;
 
 /// One direction: the parts of A inside B, measured against B's surface (all in B's frame).
 struct Inside<'a> {
@@ -156,20 +84,11 @@ impl Inside<'_> {
         }
         let (dc, _) = self.sample(c);
         let r = t.iter().fold(0.0_f64, |m, p| m.max((*p - c).length()));
-        // As in the Hausdorff search: the distance to one triangle of B is convex, so its
-        // maximum over the piece is at a corner, and bounds the distance to B.
-        let tris = self.b_mesh.bvh().leaf_triangles();
-        let mut upper = dc + r;
-        for &j in &leaves {
-            let worst = t
-                .iter()
-                .map(|p| distance_triangle_triangle(&[*p; 3], &tris[j as usize]).distance)
-                .fold(0.0_f64, f64::max);
-            upper = upper.min(worst);
-        }
+        // As in the Hausdorff search: the convex-corner bound.
+        let upper = (dc + r).min(corner_bound(self.b_mesh.bvh(), &t, &leaves));
         Some(Piece {
             upper: upper.max(corner_max),
-            tri: t,
+            item: t,
         })
     }
 
@@ -203,18 +122,7 @@ impl Inside<'_> {
             if piece.upper <= self.lower + max_error {
                 return piece.upper.max(self.lower).max(self.dropped);
             }
-            let t = piece.tri;
-            let m = [
-                (t[0] + t[1]) * 0.5,
-                (t[1] + t[2]) * 0.5,
-                (t[2] + t[0]) * 0.5,
-            ];
-            for sub in [
-                [t[0], m[0], m[2]],
-                [m[0], t[1], m[1]],
-                [m[2], m[1], t[2]],
-                [m[0], m[1], m[2]],
-            ] {
+            for sub in split4(piece.item) {
                 if let Some(p) = self.piece(sub) {
                     if p.upper > self.lower + max_error {
                         heap.push(p);
