@@ -19,6 +19,7 @@ pub mod mesh;
 pub mod motion;
 pub mod query;
 pub mod robot;
+pub mod world;
 
 pub use error::{ContactError, MeshError, MotionError, OptionsError, PoseError};
 pub use math::{Mat3, Mat4, Pose, Vec3};
@@ -39,6 +40,10 @@ pub use query::penetration::{
     WindingOptions,
 };
 pub use robot::{Robot, RobotError};
+pub use world::{
+    colliding_pairs, earliest_contact, first_contacts, pairs_within, FirstContacts, World,
+    WorldContact, WorldError, WorldOptions,
+};
 
 /// The README's Rust quickstart, compiled and run as a doctest.
 #[doc = include_str!("../../../README.md")]

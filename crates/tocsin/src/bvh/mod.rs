@@ -6,7 +6,7 @@
 //! leaf order, so traversal never chases vertex indices). Everything is in the mesh's frame.
 
 mod build;
-mod eigen;
+pub(crate) mod eigen;
 mod projection;
 mod rss;
 mod rss4;

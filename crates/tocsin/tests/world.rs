@@ -1,0 +1,354 @@
+//! Many bodies: swept boxes against dense sampling of the motions, the sort and sweep against
+//! all pairs of boxes, and the world queries against the brute force (every pair through the
+//! single query) on seeded random worlds.
+
+#![allow(clippy::unwrap_used, clippy::panic)]
+
+mod common;
+
+use common::{random_pose, random_unit, rng};
+use rand::Rng;
+use std::sync::Arc;
+use tocsin::mesh as generate;
+use tocsin::world::broad::{all_pairs, sweep_and_prune, SweepAxis};
+use tocsin::world::swept::{swept_box, Aabb};
+use tocsin::{
+    collide, colliding_pairs, earliest_contact, first_contacts, pairs_within, time_of_contact,
+    within_distance, ContactOptions, Motion, Pose, TriMesh, Vec3, World, WorldContact, WorldError,
+    WorldOptions,
+};
+
+fn random_motion(rng: &mut impl Rng, spread: f64, reach: f64, turn: f64) -> Motion {
+    let start = random_pose(rng, spread);
+    let axis = random_unit(rng);
+    let angle = rng.random_range(-turn..=turn);
+    let end = Pose::new(
+        tocsin::Mat3::from_axis_angle(axis, angle) * start.rotation,
+        start.translation + reach * random_unit(rng),
+    )
+    .unwrap();
+    match rng.random_range(0..4) {
+        0 => {
+            Motion::translation(start, Pose::new(start.rotation, end.translation).unwrap()).unwrap()
+        }
+        1 => Motion::interp(start, end, Vec3::new(0.1, -0.2, 0.3)).unwrap(),
+        2 => Motion::screw(start, end).unwrap(),
+        _ => Motion::stationary(start),
+    }
+}
+
+fn inside(b: &Aabb, p: Vec3, eps: f64) -> bool {
+    (p.cmpge(b.min - Vec3::splat(eps)) & p.cmple(b.max + Vec3::splat(eps))).all()
+}
+
+#[test]
+fn swept_boxes_hold_every_sampled_vertex() {
+    let mut r = rng(71);
+    let mesh = generate::torus_knot(24, 6).unwrap();
+    let local = Aabb::of_points(mesh.vertices()).unwrap();
+    for case in 0..300 {
+        let turn = [0.0, 0.3, 3.0, std::f64::consts::PI][case % 4];
+        let reach = [0.0, 1e-6, 1.0, 1e3][(case / 4) % 4];
+        let m = random_motion(&mut r, 5.0, reach, turn);
+        let (t0, t1) = if case % 3 == 0 {
+            (0.0, 1.0)
+        } else {
+            let a: f64 = r.random_range(0.0..1.0);
+            (a, (a + r.random_range(0.0..0.5)).min(1.0))
+        };
+        let b = swept_box(&local, &m, t0, t1, 0.0);
+        let eps = 1e-12 * (1.0 + b.max.abs().max_element() + b.min.abs().max_element());
+        for k in 0..=200 {
+            let t = t0 + (t1 - t0) * k as f64 / 200.0;
+            let pose = m.pose_at(t);
+            for &v in mesh.vertices() {
+                let p = pose.transform_point(v);
+                assert!(inside(&b, p, eps), "case {case}: vertex at t = {t} outside");
+            }
+        }
+    }
+}
+
+#[test]
+fn swept_box_of_a_pure_translation_is_the_hull_of_its_ends() {
+    let local = Aabb {
+        min: Vec3::new(-1.0, -2.0, -3.0),
+        max: Vec3::new(1.0, 2.0, 3.0),
+    };
+    let m = Motion::translation(
+        Pose::from_translation(Vec3::ZERO),
+        Pose::from_translation(Vec3::new(10.0, 0.0, 0.0)),
+    )
+    .unwrap();
+    let b = swept_box(&local, &m, 0.0, 1.0, 0.5);
+    assert_eq!(b.min, Vec3::new(-1.5, -2.5, -3.5));
+    assert_eq!(b.max, Vec3::new(11.5, 2.5, 3.5));
+}
+
+fn random_boxes(rng: &mut impl Rng, n: usize, size: f64) -> Vec<Aabb> {
+    (0..n)
+        .map(|i| {
+            // Every tenth box copies the one before (identical boxes), every seventh is a point.
+            let c = Vec3::new(rng.random(), rng.random(), rng.random());
+            let h = if i % 7 == 0 {
+                Vec3::ZERO
+            } else {
+                Vec3::new(rng.random(), rng.random(), rng.random()) * size
+            };
+            Aabb {
+                min: c - h,
+                max: c + h,
+            }
+        })
+        .scan(None, |prev: &mut Option<Aabb>, b| {
+            let out = match *prev {
+                Some(p) if rng_bool_from(&b) => p,
+                _ => b,
+            };
+            *prev = Some(out);
+            Some(out)
+        })
+        .collect()
+}
+
+/// A deterministic coin from a box's coordinates (one in ten).
+fn rng_bool_from(b: &Aabb) -> bool {
+    (b.min.x * 1e6) as i64 % 10 == 0
+}
+
+#[test]
+fn sort_and_sweep_finds_every_overlapping_pair() {
+    let mut r = rng(5);
+    for (n, size) in [
+        (0, 0.1),
+        (1, 0.1),
+        (2, 1.0),
+        (50, 0.2),
+        (500, 0.03),
+        (3000, 0.01),
+    ] {
+        let boxes = random_boxes(&mut r, n, size);
+        let reference = all_pairs(&boxes);
+        for axis in [SweepAxis::Principal, SweepAxis::LargestVariance] {
+            assert_eq!(sweep_and_prune(&boxes, axis), reference, "n = {n}");
+        }
+    }
+    // Boxes touching face to face, on a line (every projection equal on two axes).
+    let line: Vec<Aabb> = (0..100)
+        .map(|i| Aabb {
+            min: Vec3::new(i as f64, 0.0, 0.0),
+            max: Vec3::new(i as f64 + 1.0, 1.0, 1.0),
+        })
+        .collect();
+    let pairs = sweep_and_prune(&line, SweepAxis::Principal);
+    assert_eq!(pairs.len(), 99);
+    assert_eq!(pairs, all_pairs(&line));
+}
+
+/// Every pair (not both static) through the single query: the oracle of `first_contacts`.
+fn brute_first_contacts(world: &World, options: &ContactOptions) -> Vec<WorldContact> {
+    let mut out = Vec::new();
+    for i in 0..world.len() {
+        for j in i + 1..world.len() {
+            if world.is_static(i) && world.is_static(j) {
+                continue;
+            }
+            let c = time_of_contact(
+                world.mesh(i),
+                world.motion(i),
+                world.mesh(j),
+                world.motion(j),
+                options,
+            )
+            .unwrap();
+            if let Some(contact) = c {
+                out.push(WorldContact {
+                    body1: i,
+                    body2: j,
+                    contact,
+                });
+            }
+        }
+    }
+    out.sort_by(|a, b| {
+        a.contact
+            .time
+            .total_cmp(&b.contact.time)
+            .then((a.body1, a.body2).cmp(&(b.body1, b.body2)))
+    });
+    out
+}
+
+/// A random world: shared meshes, bodies at rest, identical overlapping copies, static plates,
+/// huge and tiny motions.
+fn random_world(rng: &mut impl Rng, n: usize, meshes: &[Arc<TriMesh>], spread: f64) -> World {
+    let mut world = World::new();
+    let mut last: Option<(usize, Motion)> = None;
+    for k in 0..n {
+        let mesh_index = rng.random_range(0..meshes.len());
+        let kind = rng.random_range(0..10);
+        let motion = match (kind, last) {
+            // An identical copy of the body before (same mesh, same motion).
+            (0, Some((m, motion))) => {
+                world.add_body(&meshes[m], motion);
+                last = Some((m, motion));
+                continue;
+            }
+            (1, _) => {
+                let pose = random_pose(rng, spread);
+                if k % 2 == 0 {
+                    world.add_static(&meshes[mesh_index], pose);
+                    continue;
+                }
+                Motion::stationary(pose)
+            }
+            (2, _) => random_motion(rng, spread, 1e-9, 1e-9),
+            (3, _) => random_motion(rng, spread, 50.0 * spread, 6.0),
+            _ => random_motion(rng, spread, 0.3 * spread, 1.5),
+        };
+        world.add_body(&meshes[mesh_index], motion);
+        last = Some((mesh_index, motion));
+    }
+    world
+}
+
+fn test_meshes() -> Vec<Arc<TriMesh>> {
+    vec![
+        Arc::new(generate::torus_knot(24, 5).unwrap()),
+        Arc::new(generate::sphere(0.7, 5, 8).unwrap()),
+        Arc::new(generate::plate(3.0, 2).unwrap()),
+        Arc::new(generate::box_mesh(Vec3::new(0.2, 1.5, 0.05)).unwrap()),
+    ]
+}
+
+#[test]
+fn first_contacts_match_every_pair_through_the_single_query() {
+    let meshes = test_meshes();
+    let mut r = rng(2026);
+    let (mut total_contacts, mut later_contacts) = (0, 0);
+    for (case, n) in [2, 3, 5, 10, 20, 40, 80, 200].into_iter().enumerate() {
+        let spread = 2.0 * (n as f64).cbrt() + 1.0;
+        let world = random_world(&mut r, n, &meshes, spread);
+        assert!(world.num_meshes() <= meshes.len());
+        for tolerance in [None, Some(0.05)] {
+            let options = WorldOptions {
+                contact: ContactOptions {
+                    tolerance,
+                    ..Default::default()
+                },
+                ..Default::default()
+            };
+            let expected = brute_first_contacts(&world, &options.contact);
+            let got = first_contacts(&world, &options).unwrap();
+            assert_eq!(got.contacts, expected, "case {case}, n = {n}");
+            assert!(got.narrow <= got.candidates);
+            let earliest = earliest_contact(&world, &options).unwrap();
+            assert_eq!(earliest.as_ref(), expected.first(), "case {case}");
+            total_contacts += expected.len();
+            later_contacts += expected.iter().filter(|c| c.contact.time > 0.0).count();
+        }
+    }
+    assert!(
+        total_contacts > 50 && later_contacts > 20,
+        "the worlds should collide, also after the start ({total_contacts}, {later_contacts})"
+    );
+    eprintln!("{total_contacts} contacts, {later_contacts} after the start");
+}
+
+#[test]
+fn shared_meshes_cost_one_hierarchy() {
+    let knot = Arc::new(generate::torus_knot(30, 6).unwrap());
+    let mut world = World::new();
+    for i in 0..1000 {
+        let p = Pose::from_translation(Vec3::new(10.0 * i as f64, 0.0, 0.0));
+        world.add_body(&knot, Motion::stationary(p));
+    }
+    assert_eq!(world.num_meshes(), 1);
+    assert!(Arc::ptr_eq(world.mesh(999), &knot));
+    let got = first_contacts(&world, &WorldOptions::default()).unwrap();
+    assert!(got.contacts.is_empty() && got.candidates == 0);
+}
+
+#[test]
+fn a_fast_body_hits_a_thin_static_plate_between_its_ends() {
+    // A box 1000 plate thicknesses tall per step falls through a zero-thickness plate: the ends
+    // of the step are on either side, and no sampled pose would touch it.
+    let plate = Arc::new(generate::plate(2.0, 1).unwrap());
+    let body = Arc::new(generate::box_mesh(Vec3::splat(0.05)).unwrap());
+    let mut world = World::new();
+    world.add_static(&plate, Pose::IDENTITY);
+    let start = Pose::from_axis_angle(Vec3::X, 0.3, Vec3::new(0.0, 0.0, 5.0));
+    let end = Pose::from_axis_angle(Vec3::X, 2.3, Vec3::new(0.1, 0.0, -5.0));
+    world.add_body(&body, Motion::interp(start, end, Vec3::ZERO).unwrap());
+    let first = earliest_contact(&world, &WorldOptions::default())
+        .unwrap()
+        .unwrap();
+    assert_eq!((first.body1, first.body2), (0, 1));
+    assert!(first.contact.time > 0.4 && first.contact.time < 0.5);
+    let poses = world.poses_at(first.contact.time);
+    assert!(!collide(world.mesh(0), &poses[0], world.mesh(1), &poses[1]));
+}
+
+#[test]
+fn discrete_queries_match_every_pair() {
+    let meshes = test_meshes();
+    let mut r = rng(99);
+    for n in [2, 30, 150] {
+        let world = random_world(&mut r, n, &meshes, 1.5 * (n as f64).cbrt());
+        for t in [0.0, 0.5, 1.0] {
+            let poses = world.poses_at(t);
+            let mut colliding = Vec::new();
+            let mut near = Vec::new();
+            for i in 0..n {
+                for j in i + 1..n {
+                    if world.is_static(i) && world.is_static(j) {
+                        continue;
+                    }
+                    let (mi, mj) = (world.mesh(i), world.mesh(j));
+                    if collide(mi, &poses[i], mj, &poses[j]) {
+                        colliding.push((i, j));
+                    }
+                    if within_distance(mi, &poses[i], mj, &poses[j], 0.25).unwrap() {
+                        near.push((i, j));
+                    }
+                }
+            }
+            assert_eq!(colliding_pairs(&world, &poses).unwrap(), colliding);
+            assert_eq!(pairs_within(&world, &poses, 0.25).unwrap(), near);
+            assert!(near.len() >= colliding.len());
+        }
+    }
+}
+
+#[test]
+fn bad_input_gives_errors() {
+    let mesh = Arc::new(generate::sphere(1.0, 4, 6).unwrap());
+    let mut world = World::new();
+    world.add_body(&mesh, Motion::stationary(Pose::IDENTITY));
+    assert!(matches!(
+        colliding_pairs(&world, &[]),
+        Err(WorldError::Count {
+            expected: 1,
+            got: 0
+        })
+    ));
+    assert!(matches!(
+        pairs_within(&world, &[Pose::IDENTITY], -1.0),
+        Err(WorldError::Options(_))
+    ));
+    let bad = WorldOptions {
+        contact: ContactOptions {
+            tolerance: Some(f64::NAN),
+            ..Default::default()
+        },
+        ..Default::default()
+    };
+    assert!(matches!(
+        first_contacts(&world, &bad),
+        Err(WorldError::Options(_))
+    ));
+    assert!(matches!(
+        world.set_motion(3, Motion::stationary(Pose::IDENTITY)),
+        Err(WorldError::UnknownBody { index: 3, len: 1 })
+    ));
+}
