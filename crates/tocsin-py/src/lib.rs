@@ -2,7 +2,8 @@
 //! the package's own exception classes (defined in `tocsin/_errors.py`). No geometry here.
 //!
 //! One file per concern: `convert` (arrays and poses), `errors`, `pool` (the fork-safe thread
-//! pool), `mesh`, `queries` (static queries), `motion`, `contact` (time of contact), `batch`, `robot` (robots, scenes, segment checks), `penetration` (winding number).
+//! pool), `mesh`, `queries` (static queries), `motion`, `contact` (time of contact), `batch`, `robot` (robots, scenes, segment checks), `penetration` (winding number, depth,
+//! Hausdorff), `world` (many bodies).
 
 mod batch;
 mod contact;
@@ -14,6 +15,7 @@ mod penetration;
 mod pool;
 mod queries;
 mod robot;
+mod world;
 
 use pyo3::prelude::*;
 
@@ -47,5 +49,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<robot::Scene>()?;
     m.add_class::<robot::RobotContact>()?;
     m.add_class::<robot::RobotCache>()?;
+    m.add_class::<world::World>()?;
+    m.add_class::<world::WorldContact>()?;
     Ok(())
 }

@@ -24,6 +24,8 @@ from ._core import (
     RobotCache,
     RobotContact,
     Scene,
+    World,
+    WorldContact,
     collide,
     collide_pairs,
     contains,
@@ -51,6 +53,7 @@ from ._errors import (
     RobotError,
     RobotFileError,
     TocsinError,
+    WorldError,
 )
 
 
@@ -85,7 +88,38 @@ def check_configurations(robot, qs, scene=None):
     return robot.check_configurations(qs, scene)
 
 
+def first_contacts(world, tolerance=None, max_iterations=None):
+    """Every pair of the world's bodies that comes within its tolerance during the step, each
+    with the answer time_of_contact gives for the pair alone, sorted by time
+    (``World.first_contacts``)."""
+    return world.first_contacts(tolerance=tolerance, max_iterations=max_iterations)
+
+
+def earliest_contact(world, tolerance=None, max_iterations=None):
+    """The earliest of ``first_contacts(world)``, or None (``World.earliest_contact``)."""
+    return world.earliest_contact(tolerance=tolerance, max_iterations=max_iterations)
+
+
+def colliding_pairs(world, poses=None):
+    """Pairs of bodies that touch or intersect at ``poses`` ((N, 4, 4); default: the start of
+    the step), shape (K, 2) (``World.colliding_pairs``)."""
+    return world.colliding_pairs(poses)
+
+
+def pairs_within(world, poses, distance):
+    """Pairs of bodies at most ``distance`` apart at ``poses`` ((N, 4, 4), or None for the start
+    of the step), shape (K, 2) (``World.pairs_within``)."""
+    return world.pairs_within(distance, poses)
+
+
 __all__ = [
+    "World",
+    "WorldContact",
+    "WorldError",
+    "first_contacts",
+    "earliest_contact",
+    "colliding_pairs",
+    "pairs_within",
     "__version__",
     "ConfigurationError",
     "Robot",

@@ -11,6 +11,8 @@ __version__: str
 
 __all__ = [
     "__version__",
+    "World",
+    "WorldContact",
     "ContactResult",
     "DistanceResult",
     "HausdorffResult",
@@ -553,3 +555,64 @@ class RobotCache:
     """Closest triangle pairs of earlier segment checks, for warm starts (cache=...)."""
 
     def __new__(cls) -> RobotCache: ...
+
+@final
+class World:
+    """Bodies, each a Mesh moving by a rigid Motion over the step t in [0, 1], or static; and the
+    queries over all of them at once. Bodies given the same Mesh object share its hierarchy."""
+
+    def __new__(cls) -> World: ...
+    def add_body(self, mesh: Mesh, motion: Union[Motion, ArrayLike]) -> int:
+        """Adds a moving body (a Motion, or a 4x4 pose for a body at rest); returns its index."""
+    def add_static(self, mesh: Mesh, pose: ArrayLike) -> int:
+        """Adds a static body at pose; static bodies are never checked against each other."""
+    def set_motion(self, index: int, motion: Motion) -> None:
+        """Sets body index's Motion over the next step."""
+    def set_motions(
+        self, bodies: Sequence[int], starts: ArrayLike, ends: ArrayLike, kind: str = "screw"
+    ) -> None:
+        """Sets the motions of the bodies from starts to ends ((K, 4, 4) each), all of one kind:
+        "screw", "interp" (about each body's origin) or "translation"."""
+    def __len__(self) -> int: ...
+    @property
+    def num_meshes(self) -> int:
+        """Number of distinct meshes (hierarchies) the bodies share."""
+    def is_static(self, index: int) -> bool:
+        """Whether body index is static."""
+    def poses_at(self, t: float) -> npt.NDArray[np.float64]:
+        """Every body's pose at time t of the step, shape (N, 4, 4)."""
+    def candidate_pairs(self, tolerance: Optional[float] = None) -> npt.NDArray[np.int64]:
+        """The broad phase over the step: pairs whose swept boxes meet, shape (K, 2)."""
+    def first_contacts(
+        self, tolerance: Optional[float] = None, max_iterations: Optional[int] = None
+    ) -> list[WorldContact]:
+        """Every pair that comes within its tolerance during the step, sorted by time."""
+    def earliest_contact(
+        self, tolerance: Optional[float] = None, max_iterations: Optional[int] = None
+    ) -> Optional[WorldContact]:
+        """The earliest of first_contacts (ties by body indices), or None."""
+    def colliding_pairs(
+        self, poses: Optional[ArrayLike] = None, t: float = 0.0
+    ) -> npt.NDArray[np.int64]:
+        """Pairs whose meshes touch or intersect at poses (default: the poses at t), (K, 2)."""
+    def pairs_within(
+        self, distance: float, poses: Optional[ArrayLike] = None, t: float = 0.0
+    ) -> npt.NDArray[np.int64]:
+        """Pairs whose meshes are at most distance apart at poses (default: at t), (K, 2)."""
+
+@final
+class WorldContact:
+    """A pair of bodies that comes within its tolerance during the step."""
+
+    @property
+    def body1(self) -> int:
+        """The smaller body index (mesh 1 of the contact)."""
+    @property
+    def body2(self) -> int:
+        """The larger body index."""
+    @property
+    def contact(self) -> ContactResult:
+        """The pair's first contact: time, world-frame points, normal from body1 to body2."""
+    @property
+    def time(self) -> float:
+        """The contact's time in [0, 1]."""

@@ -58,3 +58,8 @@ class RobotFileError(RobotError, OSError):
 
 class ConfigurationError(TocsinError, ValueError):
     """A joint configuration has the wrong length or shape, or a NaN or infinite value."""
+
+
+class WorldError(TocsinError, ValueError):
+    """A world query got a body index out of range, or a number of poses other than one per
+    body."""
