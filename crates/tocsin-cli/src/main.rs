@@ -11,6 +11,7 @@
 //! depth and the Hausdorff distance of two placed meshes. Errors print one line and exit with
 //! status 2.
 
+mod rain;
 mod render;
 mod robot;
 mod scene;
@@ -137,6 +138,13 @@ enum Command {
         #[command(flatten)]
         args: robot::RobotPathArgs,
     },
+    /// A simulation that never tunnels: rods and cubes thrown through a rack of 1 mm plates
+    /// into a bin, stepped from earliest contact to earliest contact; checks every step that no
+    /// meshes intersect and no body crossed a plate (JSON out; --frames for pictures).
+    Rain {
+        #[command(flatten)]
+        args: rain::RainArgs,
+    },
     /// Translational penetration depth of mesh 2 into mesh 1 (after PolyDepth): the translation
     /// of mesh 2 (world frame) that leaves them touching without intersecting.
     Penetration {
@@ -255,6 +263,7 @@ fn run(cli: Cli) -> Result<serde_json::Value, String> {
         }
         Command::Run { scene } => scene::run(&scene),
         Command::RobotPath { args } => robot::run(&args),
+        Command::Rain { args } => rain::run(&args),
         Command::Penetration { pair, tolerance } => {
             let (m1, p1, m2, p2) = setup(&pair)?;
             let opts = tocsin::DepthOptions {

@@ -515,3 +515,33 @@ fn penetration_and_hausdorff() {
     assert_eq!(code, 2);
     assert!(err.contains("max_error"), "{err}");
 }
+
+#[test]
+fn rain_never_tunnels_and_draws_its_frames() {
+    let dir = std::env::temp_dir().join(format!("tocsin-rain-{}", std::process::id()));
+    let (code, out, err) = tocsin(&[
+        "rain",
+        "--bodies",
+        "16",
+        "--steps",
+        "45",
+        "--scene",
+        "--frames",
+        dir.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["tunnelled_bodies"], 0);
+    assert_eq!(v["crossings"], 0);
+    assert_eq!(v["intersecting_pairs"], 0);
+    // The bodies do hit the plates and each other: the check is not vacuous.
+    assert!(v["contacts_resolved"].as_u64().unwrap() > 20, "{v}");
+    assert_eq!(v["scene"]["bodies"].as_array().unwrap().len(), 16);
+    assert_eq!(v["scene"]["plates"].as_array().unwrap().len(), 14);
+    assert!(dir.join("strip.png").metadata().unwrap().len() > 1000);
+    assert!(dir.join("frame_00.png").exists());
+    let _ = std::fs::remove_dir_all(&dir);
+    let (code, _, err) = tocsin(&["rain", "--speed", "nan"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("--speed"), "{err}");
+}

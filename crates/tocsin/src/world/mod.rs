@@ -129,6 +129,20 @@ pub struct FirstContacts {
     pub candidates: usize,
     /// Pairs whose boxes also met in a slice of the step, each run through the narrow phase.
     pub narrow: usize,
+    /// Pairs whose query reached its iteration cap before it could answer, sorted by body
+    /// indices: each is only known free of contact up to its `time_reached`.
+    pub undecided: Vec<Undecided>,
+}
+
+/// A pair whose time-of-contact query reached its iteration cap.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Undecided {
+    /// The smaller body index.
+    pub body1: usize,
+    /// The larger body index.
+    pub body2: usize,
+    /// The pair is free of contact over `[0, time_reached]`; undecided after.
+    pub time_reached: f64,
 }
 
 impl FirstContacts {
@@ -409,11 +423,12 @@ fn check_options(options: &ContactOptions) -> Result<(), OptionsError> {
 }
 
 /// Every pair of bodies that comes within its tolerance during the step, each with the first
-/// contact the single [`crate::time_of_contact`] reports for it (module docs).
+/// contact the single [`crate::time_of_contact`] reports for it (module docs). A pair whose
+/// query reaches its iteration cap is listed in [`FirstContacts::undecided`] with the time up
+/// to which it is known free (a simulation can advance that far), not made an error for all.
 ///
 /// # Errors
-/// [`WorldError::Options`] for bad options; [`WorldError::Contact`] for the first pair (by
-/// index) whose query reached its iteration cap.
+/// [`WorldError::Options`] for bad options.
 pub fn first_contacts(world: &World, options: &WorldOptions) -> Result<FirstContacts, WorldError> {
     let (candidates, sliced) = world.sliced_candidates(options)?;
     let found: Vec<Result<Option<WorldContact>, WorldError>> = sliced
@@ -421,16 +436,30 @@ pub fn first_contacts(world: &World, options: &WorldOptions) -> Result<FirstCont
         .map(|&(_, i, j)| world.pair_contact(i as usize, j as usize, &options.contact))
         .collect();
     let mut contacts = Vec::new();
+    let mut undecided = Vec::new();
     for r in found {
-        if let Some(c) = r? {
-            contacts.push(c);
+        match r {
+            Ok(Some(c)) => contacts.push(c),
+            Ok(None) => {}
+            Err(WorldError::Contact {
+                body1,
+                body2,
+                source: ContactError::IterationLimit { time_reached, .. },
+            }) => undecided.push(Undecided {
+                body1,
+                body2,
+                time_reached,
+            }),
+            Err(e) => return Err(e),
         }
     }
     contacts.sort_by(order);
+    undecided.sort_by_key(|u| (u.body1, u.body2));
     Ok(FirstContacts {
         contacts,
         candidates,
         narrow: sliced.len(),
+        undecided,
     })
 }
 
@@ -447,7 +476,8 @@ fn order(a: &WorldContact, b: &WorldContact) -> std::cmp::Ordering {
 /// whose earliest possible contact comes after the best time already found.
 ///
 /// # Errors
-/// As [`first_contacts`], for the pairs it runs.
+/// [`WorldError::Options`] for bad options; [`WorldError::Contact`] for a pair it ran whose
+/// query reached its iteration cap (the earliest contact is then unknown).
 pub fn earliest_contact(
     world: &World,
     options: &WorldOptions,

@@ -1,0 +1,739 @@
+//! `tocsin rain`: a simulation that never tunnels. Rods and cubes are thrown down at high speed,
+//! spinning, through a rack of tilted 1 mm plates into a bin of 1 mm plates; each step advances
+//! every body to the world's earliest contact ([`tocsin::world::first_contacts`]), resolves it
+//! with an impulse, and goes on with the rest of the step.
+//!
+//! Physics (simple on purpose; the point is the collision detection):
+//! - bodies are boxes of density 1000 kg/m^3, their origin at the centre of mass; gravity
+//!   9.81 m/s^2 is added to the velocity at the start of each 1/60 s step (semi-implicit
+//!   Euler), and within the step every body moves by `Motion::interp` about its centre: a
+//!   straight line at constant velocity while turning at constant angular velocity, the exact
+//!   free flight of a body without gravity; a piece of a step never turns a body by more than
+//!   [`MAX_TURN`] (the interpolation's rotation must stay below pi);
+//! - a contact is the pair's first time within [`TOLERANCE`] (0.1 mm). A pair already within
+//!   it at the start of a piece that is approaching gets its impulse at once; one that is
+//!   separating is checked for the rest of the piece with half its present distance as the
+//!   tolerance, so that no pair is ever excused from the check (bodies never touch);
+//! - impulses at the contact point along the contact normal: the normal velocity after is
+//!   `max(-e vn, SEPARATION)` with restitution `e` = [`RESTITUTION`] and a small separation
+//!   speed [`SEPARATION`] (2 cm/s) that keeps resting bodies from contacting again within the
+//!   same instant; Coulomb friction with coefficient [`FRICTION`] clamps the tangential
+//!   impulse to `mu` times the normal one;
+//! - after [`MAX_EVENTS`] contacts in one step, the rest of that step is skipped (bodies keep
+//!   their velocities but do not move: never unsafe), and the step is counted as frozen.
+//!
+//! Checked every step: no pair of meshes intersects ([`tocsin::world::colliding_pairs`], exact),
+//! and no body's centre crossed a plate: the straight path of the centre over each piece of the
+//! step must not pass through any plate's rectangle. The JSON out says both counts (0 expected),
+//! the time per step, and with `--scene` the whole scene so that other engines can run it
+//! (`bench/tunnelling.py`).
+
+use crate::render::{Canvas, View};
+use serde_json::{json, Value};
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::time::Instant;
+use tocsin::motion::rotation_exp;
+use tocsin::world::{colliding_pairs, first_contacts, World, WorldContact, WorldOptions};
+use tocsin::{time_of_contact, ContactError, ContactOptions, Mat3, Motion, Pose, TriMesh, Vec3};
+
+/// Step length, seconds.
+pub const DT: f64 = 1.0 / 60.0;
+/// Gravity, m/s^2 (along -z).
+pub const GRAVITY: f64 = 9.81;
+/// Coefficient of restitution.
+pub const RESTITUTION: f64 = 0.3;
+/// Coefficient of Coulomb friction.
+pub const FRICTION: f64 = 0.5;
+/// Contact tolerance, metres.
+pub const TOLERANCE: f64 = 1e-4;
+/// Smallest normal speed after an impulse, m/s.
+pub const SEPARATION: f64 = 0.02;
+/// A pair closer than this that no impulse can separate further stops the piece where it is
+/// (metres): below it, half the distance would be a tolerance near rounding.
+pub const MIN_GAP: f64 = 1e-9;
+/// Contacts resolved per step before the rest of it is skipped.
+pub const MAX_EVENTS: usize = 400;
+/// Largest turn of a body in one piece of a step, radians.
+pub const MAX_TURN: f64 = 3.0;
+/// Corners of a box within this of the other box join a contact's manifold, metres.
+pub const MANIFOLD: f64 = 5e-3;
+/// Plate thickness, metres.
+pub const PLATE: f64 = 1e-3;
+/// Size of a picture frame, pixels.
+const FRAME_W: usize = 220;
+const FRAME_H: usize = 480;
+
+/// Body density, kg/m^3.
+pub const DENSITY: f64 = 1000.0;
+
+/// Options of `tocsin rain`.
+#[derive(clap::Args)]
+pub struct RainArgs {
+    /// Number of falling bodies (rods and cubes, alternating).
+    #[arg(long, default_value_t = 40)]
+    bodies: usize,
+    /// Number of steps of 1/60 s.
+    #[arg(long, default_value_t = 90)]
+    steps: usize,
+    /// Seed of the bodies' start states.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Downward launch speed, m/s.
+    #[arg(long, default_value_t = 15.0)]
+    speed: f64,
+    /// A folder to write PNG frames and a strip of eight frames into.
+    #[arg(long)]
+    frames: Option<PathBuf>,
+    /// Put the scene (plates, bodies' start states, constants) in the JSON out.
+    #[arg(long)]
+    scene: bool,
+}
+
+/// A static plate: a box of these half extents at this pose.
+struct Plate {
+    half: Vec3,
+    pose: Pose,
+}
+
+/// A falling body's state; its mesh is a box of half extents `half` centred at its origin.
+struct Body {
+    half: Vec3,
+    x: Vec3,
+    r: Mat3,
+    v: Vec3,
+    w: Vec3,
+    inv_mass: f64,
+    /// Inverse principal inertia, body frame.
+    inv_inertia: Vec3,
+}
+
+impl Body {
+    fn pose(&self) -> Pose {
+        Pose {
+            rotation: self.r,
+            translation: self.x,
+        }
+    }
+
+    fn inv_inertia_world(&self) -> Mat3 {
+        self.r * Mat3::from_diagonal(self.inv_inertia) * self.r.transpose()
+    }
+
+    fn velocity_at(&self, p: Vec3) -> Vec3 {
+        self.v + self.w.cross(p - self.x)
+    }
+}
+
+/// SplitMix64: a small seeded generator, enough for start states.
+struct Rng(u64);
+
+impl Rng {
+    fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^= z >> 31;
+        lo + (hi - lo) * ((z >> 11) as f64 / (1u64 << 53) as f64)
+    }
+}
+
+/// The rack of tilted plates (three layers of three), and the bin: a floor and four walls.
+fn plates() -> Vec<Plate> {
+    let mut out = Vec::new();
+    let t = 0.5 * PLATE;
+    for (layer, z) in [0.8, 1.25, 1.7].into_iter().enumerate() {
+        let offset = if layer % 2 == 0 { -0.08 } else { 0.08 };
+        for (k, x) in [-0.38, 0.0, 0.38].into_iter().enumerate() {
+            let tilt = if (k + layer) % 2 == 0 { 0.6 } else { -0.6 };
+            out.push(Plate {
+                half: Vec3::new(0.13, 0.45, t),
+                pose: Pose::from_axis_angle(Vec3::Y, tilt, Vec3::new(x + offset, 0.0, z)),
+            });
+        }
+    }
+    // The bin's floor, and four walls up past the rack and the launch height: a closed chute.
+    let (w, h) = (0.6, 1.5);
+    out.push(Plate {
+        half: Vec3::new(w, w, t),
+        pose: Pose::from_translation(Vec3::new(0.0, 0.0, -t)),
+    });
+    for s in [-1.0, 1.0] {
+        out.push(Plate {
+            half: Vec3::new(w, t, h),
+            pose: Pose::from_translation(Vec3::new(0.0, s * (w + t), h)),
+        });
+        out.push(Plate {
+            half: Vec3::new(t, w, h),
+            pose: Pose::from_translation(Vec3::new(s * (w + t), 0.0, h)),
+        });
+    }
+    out
+}
+
+/// Rods and cubes on a grid above the rack, thrown down and spinning.
+fn bodies(n: usize, seed: u64, speed: f64) -> Vec<Body> {
+    let mut rng = Rng(seed);
+    (0..n)
+        .map(|k| {
+            let half = if k % 2 == 0 {
+                Vec3::new(0.1, 0.008, 0.008)
+            } else {
+                Vec3::splat(0.025)
+            };
+            let (i, j, layer) = (k % 4, (k / 4) % 4, k / 16);
+            let x = Vec3::new(
+                -0.36 + 0.24 * i as f64,
+                -0.36 + 0.24 * j as f64,
+                2.3 + 0.25 * layer as f64,
+            );
+            let axis = Vec3::new(
+                rng.uniform(-1.0, 1.0),
+                rng.uniform(-1.0, 1.0),
+                rng.uniform(-1.0, 1.0),
+            )
+            .try_normalize()
+            .unwrap_or(Vec3::Z);
+            let r = Mat3::from_axis_angle(axis, rng.uniform(0.0, 3.0));
+            let v = Vec3::new(
+                rng.uniform(-1.0, 1.0),
+                rng.uniform(-1.0, 1.0),
+                -speed * rng.uniform(0.7, 1.0),
+            );
+            let w = axis.any_orthonormal_vector() * rng.uniform(5.0, 25.0);
+            let mass = DENSITY * 8.0 * half.x * half.y * half.z;
+            let (a, b, c) = (
+                (2.0 * half.x).powi(2),
+                (2.0 * half.y).powi(2),
+                (2.0 * half.z).powi(2),
+            );
+            let inertia = Vec3::new(b + c, a + c, a + b) * (mass / 12.0);
+            Body {
+                half,
+                x,
+                r,
+                v,
+                w,
+                inv_mass: 1.0 / mass,
+                inv_inertia: inertia.recip(),
+            }
+        })
+        .collect()
+}
+
+/// A point of a contact manifold: where, and the gap there (metres).
+#[derive(Clone, Copy, Debug)]
+struct ContactPoint {
+    p: Vec3,
+    gap: f64,
+}
+
+/// Distance from `p` to the solid box of half extents `half` at `pose`.
+fn box_distance(half: Vec3, pose: &Pose, p: Vec3) -> f64 {
+    let local = pose.inverse().transform_point(p);
+    (local - local.clamp(-half, half)).length()
+}
+
+fn corners(half: Vec3, pose: &Pose) -> [Vec3; 8] {
+    std::array::from_fn(|k| {
+        let s = Vec3::new(
+            if k & 1 == 0 { -1.0 } else { 1.0 },
+            if k & 2 == 0 { -1.0 } else { 1.0 },
+            if k & 4 == 0 { -1.0 } else { 1.0 },
+        );
+        pose.transform_point(s * half)
+    })
+}
+
+/// The contact manifold of two boxes `(half, pose)` at a contact: the witness midpoint, and
+/// every corner of either box within [`MANIFOLD`] of the other box, placed half its gap along
+/// the normal `n` (from `a` to `b`).
+fn manifold(a: (Vec3, Pose), b: (Vec3, Pose), n: Vec3, witness: ContactPoint) -> Vec<ContactPoint> {
+    let mut out = vec![witness];
+    for (from, to, sign) in [(a, b, 1.0), (b, a, -1.0)] {
+        for c in corners(from.0, &from.1) {
+            let gap = box_distance(to.0, &to.1, c);
+            if gap < MANIFOLD {
+                out.push(ContactPoint {
+                    p: c + n * (sign * 0.5 * gap),
+                    gap,
+                });
+            }
+        }
+    }
+    out
+}
+
+/// Impulses on bodies `a` and `b` (`None`: a plate) at the points of a manifold, normal `n`
+/// from `a` to `b`, by sequential impulses with accumulated clamping (8 passes). A point within
+/// the tolerance gets a normal velocity of at least `max(-e vn, SEPARATION)`; a point farther
+/// away (a speculative contact) may approach, but only as fast as closes its gap to the
+/// tolerance in the `left` seconds of the step. Friction at each point is clamped to `mu` times
+/// its normal impulse. Returns whether impulses were applied (some point fell short of its
+/// target by more than a quarter of [`SEPARATION`]).
+fn resolve(
+    bodies: &mut [Body],
+    (a, b): (Option<usize>, Option<usize>),
+    points: &[ContactPoint],
+    n: Vec3,
+    left: f64,
+) -> bool {
+    let relative = |bodies: &[Body], p: Vec3| {
+        let vel = |k: Option<usize>| k.map_or(Vec3::ZERO, |k| bodies[k].velocity_at(p));
+        vel(b) - vel(a)
+    };
+    let mass = |bodies: &[Body], k: Option<usize>, p: Vec3| {
+        k.map_or((0.0, Mat3::ZERO, Vec3::ZERO), |k| {
+            let s = &bodies[k];
+            (s.inv_mass, s.inv_inertia_world(), p - s.x)
+        })
+    };
+    let targets: Vec<f64> = points
+        .iter()
+        .map(|c| {
+            if c.gap <= TOLERANCE {
+                (-RESTITUTION * relative(bodies, c.p).dot(n)).max(SEPARATION)
+            } else {
+                -(c.gap - TOLERANCE) / left.max(1e-9)
+            }
+        })
+        .collect();
+    // Nothing to do unless a point falls short of its target by a quarter of the separation
+    // speed (the passes leave small residuals; chasing them would never end).
+    let short = points
+        .iter()
+        .zip(&targets)
+        .any(|(c, t)| relative(bodies, c.p).dot(n) < t - 0.25 * SEPARATION);
+    if !short {
+        return false;
+    }
+    let mut normal = vec![0.0_f64; points.len()];
+    let mut friction = vec![Vec3::ZERO; points.len()];
+    let apply = |bodies: &mut [Body], p: Vec3, impulse: Vec3| {
+        for (k, sign) in [(a, -1.0), (b, 1.0)] {
+            if let Some(i) = k {
+                let s = &mut bodies[i];
+                let iw = s.inv_inertia_world();
+                s.v += impulse * (sign * s.inv_mass);
+                s.w += iw * (p - s.x).cross(impulse * sign);
+            }
+        }
+    };
+    for _ in 0..8 {
+        for (k, c) in points.iter().enumerate() {
+            let (ma, ia, ra) = mass(bodies, a, c.p);
+            let (mb, ib, rb) = mass(bodies, b, c.p);
+            let eff = |d: Vec3| {
+                ma + mb + d.dot((ia * ra.cross(d)).cross(ra) + (ib * rb.cross(d)).cross(rb))
+            };
+            let rel = relative(bodies, c.p);
+            let total = (normal[k] + (targets[k] - rel.dot(n)) / eff(n)).max(0.0);
+            let dj = total - normal[k];
+            normal[k] = total;
+            apply(bodies, c.p, n * dj);
+            let rel = relative(bodies, c.p);
+            let tangential = rel - n * rel.dot(n);
+            if let Some(t) = tangential.try_normalize() {
+                let wanted = friction[k] - t * (tangential.length() / eff(t));
+                let limit = FRICTION * normal[k];
+                let clamped = if wanted.length() > limit {
+                    wanted * (limit / wanted.length())
+                } else {
+                    wanted
+                };
+                apply(bodies, c.p, clamped - friction[k]);
+                friction[k] = clamped;
+            }
+        }
+    }
+    true
+}
+
+/// Whether the straight path of a point from `p0` to `p1` passes through the plate's rectangle.
+fn crosses(plate: &Plate, p0: Vec3, p1: Vec3) -> bool {
+    let inv = plate.pose.inverse();
+    let (a, b) = (inv.transform_point(p0), inv.transform_point(p1));
+    if a.z * b.z >= 0.0 {
+        return false;
+    }
+    let q = a + (b - a) * (a.z / (a.z - b.z));
+    q.x.abs() <= plate.half.x && q.y.abs() <= plate.half.y
+}
+
+fn world_error(e: impl std::fmt::Display) -> String {
+    format!("simulation: {e}")
+}
+
+/// The counters of a run.
+#[derive(Default)]
+struct Tally {
+    events: usize,
+    frozen_steps: usize,
+    intersections: usize,
+    crossings: usize,
+    crossed: Vec<bool>,
+    step_ms: Vec<f64>,
+}
+
+/// Runs `tocsin rain`.
+pub fn run(args: &RainArgs) -> Result<Value, String> {
+    if !(args.speed.is_finite() && args.speed >= 0.0) {
+        return Err("--speed must be finite and at least 0".into());
+    }
+    let plates = plates();
+    let mut bodies = bodies(args.bodies, args.seed, args.speed);
+    let box_mesh = |half: Vec3| tocsin::mesh::box_mesh(half).map(Arc::new);
+    let mut world = World::new();
+    let mut shared: Vec<(Vec3, Arc<TriMesh>)> = Vec::new();
+    let mut mesh_for = |half: Vec3| -> Result<Arc<TriMesh>, String> {
+        if let Some((_, m)) = shared.iter().find(|(h, _)| *h == half) {
+            return Ok(m.clone());
+        }
+        let m = box_mesh(half).map_err(world_error)?;
+        shared.push((half, m.clone()));
+        Ok(m)
+    };
+    for p in &plates {
+        world.add_static(&mesh_for(p.half)?, p.pose);
+    }
+    let first = plates.len();
+    for b in &bodies {
+        world.add_body(&mesh_for(b.half)?, Motion::stationary(b.pose()));
+    }
+    let scene = args.scene.then(|| scene_json(&plates, &bodies));
+    let options = WorldOptions {
+        contact: ContactOptions {
+            tolerance: Some(TOLERANCE),
+            ..Default::default()
+        },
+        ..Default::default()
+    };
+    let mut tally = Tally {
+        crossed: vec![false; bodies.len()],
+        ..Default::default()
+    };
+    let frame_every = (args.steps / 8).max(1);
+    let mut frames = Vec::new();
+    for step in 0..args.steps {
+        let clock = Instant::now();
+        for b in &mut bodies {
+            b.v.z -= GRAVITY * DT;
+        }
+        step_once(
+            &mut world,
+            &mut bodies,
+            &plates,
+            first,
+            &options,
+            &mut tally,
+        )?;
+        let poses = world.poses_at(1.0);
+        tally.intersections += colliding_pairs(&world, &poses).map_err(world_error)?.len();
+        tally.step_ms.push(clock.elapsed().as_secs_f64() * 1e3);
+        if args.frames.is_some() && (step % frame_every == 0 || step + 1 == args.steps) {
+            frames.push(draw(&world, first));
+        }
+    }
+    if let Some(dir) = &args.frames {
+        write_frames(dir, &frames)?;
+    }
+    let in_bin = bodies
+        .iter()
+        .filter(|b| b.x.z > 0.0 && b.x.z < 0.6 && b.x.x.abs() < 0.6 && b.x.y.abs() < 0.6)
+        .count();
+    let mut ms = tally.step_ms.clone();
+    ms.sort_by(f64::total_cmp);
+    let pick = |q: f64| {
+        ms.get(((ms.len() as f64 - 1.0) * q).round() as usize)
+            .copied()
+    };
+    let mut out = json!({
+        "engine": "tocsin",
+        "bodies": bodies.len(),
+        "steps": args.steps,
+        "dt": DT,
+        "tunnelled_bodies": tally.crossed.iter().filter(|&&c| c).count(),
+        "crossings": tally.crossings,
+        "intersecting_pairs": tally.intersections,
+        "contacts_resolved": tally.events,
+        "frozen_steps": tally.frozen_steps,
+        "in_bin": in_bin,
+        "ms_per_step": {
+            "median": pick(0.5),
+            "p90": pick(0.9),
+            "max": ms.last(),
+            "mean": ms.iter().sum::<f64>() / ms.len().max(1) as f64,
+        },
+    });
+    if let Some(s) = scene {
+        out["scene"] = s;
+    }
+    Ok(out)
+}
+
+/// One step of length [`DT`] (module docs).
+fn step_once(
+    world: &mut World,
+    bodies: &mut [Body],
+    plates: &[Plate],
+    first: usize,
+    options: &WorldOptions,
+    tally: &mut Tally,
+) -> Result<(), String> {
+    let mut left = DT;
+    let mut events = 0;
+    while left > 0.0 {
+        let spin = bodies.iter().map(|b| b.w.length()).fold(0.0, f64::max);
+        let h = if spin * left > MAX_TURN {
+            MAX_TURN / spin
+        } else {
+            left
+        };
+        for (k, b) in bodies.iter().enumerate() {
+            let end = Pose {
+                rotation: rotation_exp(b.w * h) * b.r,
+                translation: b.x + b.v * h,
+            };
+            let m = Motion::interp(b.pose(), end, Vec3::ZERO).map_err(world_error)?;
+            world.set_motion(first + k, m).map_err(world_error)?;
+        }
+        let found = first_contacts(world, options).map_err(world_error)?;
+        // Pairs within the tolerance now: impulses on their manifolds first (the motions are
+        // then stale: the piece is planned again).
+        let boxes = |bodies: &[Body], i: usize| -> (Vec3, Pose) {
+            if i < first {
+                (plates[i].half, plates[i].pose)
+            } else {
+                (bodies[i - first].half, bodies[i - first].pose())
+            }
+        };
+        let now: Vec<&WorldContact> = found
+            .contacts
+            .iter()
+            .filter(|c| c.contact.time == 0.0)
+            .collect();
+        let mut pushed = false;
+        for c in &now {
+            let (a, b) = (boxes(bodies, c.body1), boxes(bodies, c.body2));
+            let points = manifold(a, b, c.contact.normal, witness(c));
+            let pair = (c.body1.checked_sub(first), c.body2.checked_sub(first));
+            pushed |= resolve(bodies, pair, &points, c.contact.normal, left);
+        }
+        if pushed {
+            tally.events += 1;
+            events += 1;
+            if events >= MAX_EVENTS {
+                tally.frozen_steps += 1;
+                break;
+            }
+            continue;
+        }
+        // Each candidate: a contact to resolve, or (`None`) a time up to which a pair is only
+        // known free (its query reached the iteration cap): the piece stops there, no impulse.
+        let mut candidates: Vec<(f64, Option<WorldContact>)> = found
+            .undecided
+            .iter()
+            .map(|u| (u.time_reached, None))
+            .collect();
+        for c in found.contacts {
+            if c.contact.time > 0.0 {
+                candidates.push((c.contact.time, Some(c)));
+                continue;
+            }
+            // Within the tolerance and separating everywhere: checked with half its distance.
+            if c.contact.distance < MIN_GAP {
+                candidates.push((0.0, None));
+                continue;
+            }
+            let tight = ContactOptions {
+                tolerance: Some(0.5 * c.contact.distance),
+                ..options.contact
+            };
+            let (i, j) = (c.body1, c.body2);
+            let again = time_of_contact(
+                world.mesh(i),
+                world.motion(i),
+                world.mesh(j),
+                world.motion(j),
+                &tight,
+            );
+            match again {
+                Ok(Some(contact)) => {
+                    candidates.push((contact.time, Some(WorldContact { contact, ..c })))
+                }
+                Ok(None) => {}
+                Err(ContactError::IterationLimit { time_reached, .. }) => {
+                    candidates.push((time_reached, None));
+                }
+                Err(e) => return Err(world_error(e)),
+            }
+        }
+        let t = candidates.iter().map(|c| c.0).fold(1.0, f64::min);
+        // Move everyone to the event (or to the end of the piece), along the checked motions.
+        for (k, b) in bodies.iter_mut().enumerate() {
+            let p = world.motion(first + k).pose_at(t);
+            let before = b.x;
+            b.x = p.translation;
+            b.r = p.rotation;
+            for plate in plates {
+                if crosses(plate, before, b.x) {
+                    tally.crossings += 1;
+                    tally.crossed[k] = true;
+                }
+            }
+        }
+        left = if t >= 1.0 { left - h } else { left - t * h }.max(0.0);
+        if candidates.iter().any(|c| c.0 <= t) {
+            tally.events += 1;
+            events += 1;
+            if events >= MAX_EVENTS {
+                tally.frozen_steps += 1;
+                break;
+            }
+        }
+        // The contacts at the event get their impulses at the top of the next piece (they
+        // are then at time 0).
+    }
+    // The world's motions end where the bodies are, for the checks and the pictures.
+    for (k, b) in bodies.iter().enumerate() {
+        world
+            .set_motion(first + k, Motion::stationary(b.pose()))
+            .map_err(world_error)?;
+    }
+    Ok(())
+}
+
+/// The witness midpoint of a contact, with its distance as the gap.
+fn witness(c: &WorldContact) -> ContactPoint {
+    ContactPoint {
+        p: 0.5 * (c.contact.point1 + c.contact.point2),
+        gap: c.contact.distance,
+    }
+}
+
+/// A side view of the world as it stands.
+fn draw(world: &World, first: usize) -> Canvas {
+    let (w, h) = (FRAME_W, FRAME_H);
+    let view = View {
+        right: Vec3::X,
+        up: Vec3::Z,
+        center: Vec3::new(0.0, 0.0, 1.45),
+        scale: h as f64 / 3.1,
+    };
+    let mut canvas = Canvas::new(w, h);
+    let poses = world.poses_at(0.0);
+    for (i, pose) in poses.iter().enumerate() {
+        // The walls facing the viewer would hide everything: drawn as glass (not at all).
+        let facing = world.mesh(i).vertices().iter().all(|v| v.y.abs() < PLATE);
+        if i < first && facing && pose.translation.y.abs() > 0.5 {
+            continue;
+        }
+        let color = if i < first {
+            [150.0, 150.0, 150.0]
+        } else if (i - first) % 2 == 0 {
+            [70.0, 120.0, 200.0]
+        } else {
+            [230.0, 140.0, 50.0]
+        };
+        canvas.draw_mesh(world.mesh(i), pose, color, &view);
+    }
+    canvas
+}
+
+fn write_frames(dir: &std::path::Path, frames: &[Canvas]) -> Result<(), String> {
+    std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+    let mut strip = Canvas::new(FRAME_W * frames.len().min(8), FRAME_H);
+    for (k, f) in frames.iter().enumerate() {
+        let path = dir.join(format!("frame_{k:02}.png"));
+        f.write_png(&path.to_string_lossy())?;
+        if k < 8 {
+            strip.blit(f, FRAME_W * k, 0);
+        }
+    }
+    strip.write_png(&dir.join("strip.png").to_string_lossy())
+}
+
+/// The scene for other engines: plates and bodies as boxes (half extents, 4x4 row-major pose),
+/// bodies' mass, velocity and angular velocity (world frame), and the constants.
+fn scene_json(plates: &[Plate], bodies: &[Body]) -> Value {
+    let matrix = |p: &Pose| {
+        let m = p.to_matrix().transpose().to_cols_array();
+        m.chunks(4).map(|r| r.to_vec()).collect::<Vec<_>>()
+    };
+    json!({
+        "dt": DT,
+        "gravity": GRAVITY,
+        "restitution": RESTITUTION,
+        "friction": FRICTION,
+        "density": DENSITY,
+        "plates": plates.iter().map(|p| json!({
+            "half_extents": p.half.to_array(),
+            "pose": matrix(&p.pose),
+        })).collect::<Vec<_>>(),
+        "bodies": bodies.iter().map(|b| json!({
+            "half_extents": b.half.to_array(),
+            "pose": matrix(&b.pose()),
+            "mass": 1.0 / b.inv_mass,
+            "velocity": b.v.to_array(),
+            "angular_velocity": b.w.to_array(),
+        })).collect::<Vec<_>>(),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_centre_path_through_a_plate_crosses_it_and_one_beside_it_does_not() {
+        let plate = Plate {
+            half: Vec3::new(0.5, 0.5, 0.0005),
+            pose: Pose::from_axis_angle(Vec3::Y, 0.6, Vec3::new(0.0, 0.0, 1.0)),
+        };
+        let through = crosses(&plate, Vec3::new(0.0, 0.0, 1.2), Vec3::new(0.1, 0.0, 0.8));
+        let beside = crosses(&plate, Vec3::new(0.0, 0.8, 1.2), Vec3::new(0.0, 0.8, 0.8));
+        let above = crosses(&plate, Vec3::new(0.0, 0.0, 1.4), Vec3::new(0.0, 0.0, 1.2));
+        assert!(through && !beside && !above);
+    }
+
+    #[test]
+    fn an_impulse_reverses_an_approach_and_a_resting_box_gets_both_corners() {
+        let mut b = bodies(1, 3, 10.0);
+        b[0].w = Vec3::ZERO;
+        b[0].v = Vec3::new(1.0, 0.0, -10.0);
+        let p = b[0].x - Vec3::new(0.0, 0.0, 0.01);
+        let point = [ContactPoint { p, gap: 0.0 }];
+        // The plate is body 1 (`None`), the box body 2, the normal from the plate up.
+        assert!(resolve(&mut b, (None, Some(0)), &point, Vec3::Z, DT));
+        let vn = b[0].velocity_at(p).z;
+        assert!((vn - RESTITUTION * 10.0).abs() < 1e-9, "{vn}");
+        // Friction took tangential speed off, within the cone.
+        assert!(b[0].velocity_at(p).x < 1.0);
+        // Separating now: no second impulse.
+        assert!(!resolve(&mut b, (None, Some(0)), &point, Vec3::Z, DT));
+
+        // A cube resting flat on a plate: four corners in the manifold; after the impulses no
+        // corner approaches the plate.
+        let plate = (Vec3::new(1.0, 1.0, 0.0005), Pose::IDENTITY);
+        let half = Vec3::splat(0.025);
+        let mut cube = bodies(2, 5, 0.0);
+        cube[1].r = Mat3::IDENTITY;
+        cube[1].x = Vec3::new(0.0, 0.0, 0.0005 + 0.025 + 5e-5);
+        cube[1].v = Vec3::new(0.0, 0.0, -1.0);
+        cube[1].w = Vec3::new(3.0, 0.0, 0.0);
+        let witness = ContactPoint {
+            p: cube[1].x - Vec3::new(0.0, 0.0, 0.025),
+            gap: 5e-5,
+        };
+        let points = manifold(plate, (half, cube[1].pose()), Vec3::Z, witness);
+        assert_eq!(points.len(), 5);
+        assert!(resolve(&mut cube, (None, Some(1)), &points, Vec3::Z, DT));
+        for c in corners(half, &cube[1].pose())
+            .into_iter()
+            .filter(|c| c.z < 0.01)
+        {
+            assert!(cube[1].velocity_at(c).z > 0.5 * SEPARATION, "{c}");
+        }
+    }
+}
