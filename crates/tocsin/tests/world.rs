@@ -145,6 +145,72 @@ fn sort_and_sweep_finds_every_overlapping_pair() {
     assert_eq!(pairs, all_pairs(&line));
 }
 
+#[test]
+fn sort_and_sweep_in_cells_handles_mixed_sizes_flat_scenes_and_bad_boxes() {
+    let mut r = rng(17);
+    let check = |boxes: &[Aabb], what: &str| {
+        let reference = all_pairs(boxes);
+        for axis in [SweepAxis::Principal, SweepAxis::LargestVariance] {
+            assert_eq!(sweep_and_prune(boxes, axis), reference, "{what}");
+        }
+        reference.len()
+    };
+    // Many small boxes with a few huge ones (walls, floors: oversize boxes kept out of cells).
+    let mut mixed = random_boxes(&mut r, 4000, 0.01);
+    for k in 0..6 {
+        let c = Vec3::new(r.random(), r.random(), r.random());
+        let h = [
+            Vec3::new(0.6, 0.6, 0.001),
+            Vec3::new(0.001, 0.6, 0.6),
+            Vec3::splat(0.3),
+        ][k % 3];
+        mixed.insert(r.random_range(0..mixed.len()), Aabb { min: c - h, max: c + h });
+    }
+    let n = check(&mixed, "mixed");
+    assert!(n > 1000, "{n}");
+    // All boxes in one plane, and all on one line (cells of a flat or thin scene).
+    let flat: Vec<Aabb> = random_boxes(&mut r, 2000, 0.02)
+        .into_iter()
+        .map(|b| Aabb {
+            min: Vec3::new(b.min.x, b.min.y, 0.0),
+            max: Vec3::new(b.max.x, b.max.y, 0.0),
+        })
+        .collect();
+    assert!(check(&flat, "flat") > 0);
+    let thin: Vec<Aabb> = (0..500)
+        .map(|i| {
+            let x = (i as f64 * 0.37).sin() * 10.0;
+            Aabb {
+                min: Vec3::new(x, 0.0, 0.0),
+                max: Vec3::new(x + 0.05, 0.0, 0.0),
+            }
+        })
+        .collect();
+    assert!(check(&thin, "thin") > 0);
+    // Identical boxes, points, one big cluster far from the rest, huge coordinates.
+    let same = vec![
+        Aabb {
+            min: Vec3::splat(1.0),
+            max: Vec3::splat(2.0),
+        };
+        50
+    ];
+    assert_eq!(check(&same, "same"), 50 * 49 / 2);
+    let mut far = random_boxes(&mut r, 300, 0.05);
+    for b in far.iter_mut().step_by(3) {
+        b.min += Vec3::splat(1e12);
+        b.max += Vec3::splat(1e12);
+    }
+    check(&far, "far");
+    // NaN and infinite boxes overlap nothing.
+    let mut bad = random_boxes(&mut r, 200, 0.1);
+    bad[3].min.x = f64::NAN;
+    bad[7].max = Vec3::splat(f64::INFINITY);
+    let pairs = sweep_and_prune(&bad, SweepAxis::Principal);
+    assert!(pairs.iter().all(|&(i, j)| ![3, 7].contains(&i) && ![3, 7].contains(&j)));
+    assert_eq!(pairs, all_pairs(&bad));
+}
+
 /// Every pair (not both static) through the single query: the oracle of `first_contacts`.
 fn brute_first_contacts(world: &World, options: &ContactOptions) -> Vec<WorldContact> {
     let mut out = Vec::new();

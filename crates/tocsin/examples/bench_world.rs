@@ -1,0 +1,196 @@
+//! Many-body benchmarks (docs/BENCHMARKS.md, "Many bodies"):
+//!
+//! 1. broad phase alone: random boxes in a unit cube, sized for about two overlapping pairs per
+//!    box, sort and sweep on the principal axis and on the largest-variance coordinate axis,
+//!    beside the all-pairs test, on 1 and 2 threads; configurations interleaved, median of
+//!    the repetitions;
+//! 2. a whole step: N non-convex bodies (torus knots, the bunny when its OBJ is given, plates;
+//!    three shared meshes) turning and moving by screw motions; the broad phase
+//!    (`World::candidate_pairs`), `first_contacts` and `earliest_contact`, on 1 and 2 threads.
+//!
+//! `cargo run --release --example bench_world -- [broad|step|all] [bunny.obj]`
+
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use std::sync::Arc;
+use std::time::Instant;
+use tocsin::world::broad::{all_pairs, sweep_and_prune, SweepAxis};
+use tocsin::world::swept::Aabb;
+use tocsin::{
+    earliest_contact, first_contacts, Mat3, Motion, Pose, TriMesh, Vec3, World, WorldOptions,
+};
+
+fn pool(threads: usize) -> rayon::ThreadPool {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .expect("thread pool")
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
+fn boxes(n: usize, seed: u64) -> Vec<Aabb> {
+    // Two boxes of half size s overlap with probability about (4 s)^3: N^2 / 2 (4 s)^3 = 2 N.
+    let s = (1.0 / (16.0 * n as f64)).cbrt();
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    (0..n)
+        .map(|_| {
+            let c = Vec3::new(rng.random(), rng.random(), rng.random());
+            Aabb {
+                min: c - Vec3::splat(s),
+                max: c + Vec3::splat(s),
+            }
+        })
+        .collect()
+}
+
+fn broad() {
+    println!("| bodies | pairs | threads | sort and sweep, principal axis (ms) | largest-variance axis (ms) | all pairs (ms) |");
+    println!("|---:|---:|---:|---:|---:|---:|");
+    for n in [500, 1_000, 2_000, 5_000, 10_000, 100_000, 1_000_000] {
+        let b = boxes(n, n as u64);
+        let reps = if n >= 1_000_000 { 5 } else { 11 };
+        let pools = [pool(1), pool(2)];
+        let mut t = vec![[Vec::new(), Vec::new(), Vec::new()]; 2];
+        let mut pairs = 0;
+        for _ in 0..reps {
+            for (k, p) in pools.iter().enumerate() {
+                let clock = Instant::now();
+                pairs = p.install(|| sweep_and_prune(&b, SweepAxis::Principal)).len();
+                t[k][0].push(clock.elapsed().as_secs_f64() * 1e3);
+                let clock = Instant::now();
+                p.install(|| sweep_and_prune(&b, SweepAxis::LargestVariance));
+                t[k][1].push(clock.elapsed().as_secs_f64() * 1e3);
+                if n <= 10_000 {
+                    let clock = Instant::now();
+                    let all = p.install(|| all_pairs(&b)).len();
+                    t[k][2].push(clock.elapsed().as_secs_f64() * 1e3);
+                    assert_eq!(all, pairs);
+                }
+            }
+        }
+        for (k, threads) in [1, 2].into_iter().enumerate() {
+            let [a, v, all] = t[k].clone();
+            let all = if all.is_empty() {
+                "-".to_string()
+            } else {
+                format!("{:.3}", median(all))
+            };
+            println!(
+                "| {n} | {pairs} | {threads} | {:.3} | {:.3} | {all} |",
+                median(a),
+                median(v)
+            );
+        }
+    }
+}
+
+fn scaled(mesh: TriMesh, radius: f64) -> Arc<TriMesh> {
+    let s = radius / mesh.bounding_radius();
+    let c = mesh.vertices().iter().fold(Vec3::ZERO, |a, v| a + *v) / mesh.num_vertices() as f64;
+    let v: Vec<Vec3> = mesh.vertices().iter().map(|v| (*v - c) * s).collect();
+    Arc::new(TriMesh::new(v, mesh.triangles().to_vec()).expect("mesh"))
+}
+
+fn world(n: usize, meshes: &[Arc<TriMesh>], seed: u64) -> World {
+    // Unit-radius bodies, 40 cubic units each: a body moves about half its radius and turns up
+    // to 1 rad per step.
+    let side = (40.0 * n as f64).cbrt();
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let mut w = World::new();
+    for k in 0..n {
+        let axis = Vec3::new(
+            rng.random_range(-1.0..1.0),
+            rng.random_range(-1.0..1.0),
+            rng.random_range(-1.0..1.0),
+        )
+        .normalize();
+        let start = Pose::from_axis_angle(
+            axis,
+            rng.random_range(0.0..3.0),
+            Vec3::new(rng.random(), rng.random(), rng.random()) * side,
+        );
+        let turn = Mat3::from_axis_angle(axis.any_orthonormal_vector(), rng.random_range(0.0..1.0));
+        let shift = Vec3::new(
+            rng.random_range(-0.5..0.5),
+            rng.random_range(-0.5..0.5),
+            rng.random_range(-0.5..0.5),
+        );
+        let end = Pose::new(turn * start.rotation, start.translation + shift).expect("pose");
+        let motion = Motion::screw(start, end).expect("motion");
+        w.add_body(&meshes[k % meshes.len()], motion);
+    }
+    w
+}
+
+fn step(bunny: Option<&str>) {
+    let mut meshes = vec![
+        scaled(tocsin::mesh::torus_knot(120, 12).expect("knot"), 1.0),
+        scaled(tocsin::mesh::plate(1.0, 8).expect("plate"), 1.0),
+    ];
+    match bunny.map(TriMesh::load) {
+        Some(Ok(b)) => meshes.push(scaled(b, 1.0)),
+        _ => meshes.push(scaled(tocsin::mesh::torus_knot(60, 8).expect("knot"), 1.0)),
+    }
+    let tris: Vec<usize> = meshes.iter().map(|m| m.num_triangles()).collect();
+    println!("meshes (triangles): {tris:?}, bunny: {}", bunny.is_some());
+    println!("| bodies | threads | candidates | narrow | contacts | broad phase (ms) | first_contacts (ms) | narrow phase (ms) | earliest_contact (ms) |");
+    println!("|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
+    let opts = WorldOptions::default();
+    for n in [1_000, 10_000] {
+        let w = world(n, &meshes, n as u64);
+        let pools = [pool(1), pool(2)];
+        let mut t = vec![[Vec::new(), Vec::new(), Vec::new()]; 2];
+        let mut counts = (0, 0, 0);
+        for _ in 0..7 {
+            for (k, p) in pools.iter().enumerate() {
+                let clock = Instant::now();
+                let c = p.install(|| w.candidate_pairs(&opts)).expect("broad");
+                t[k][0].push(clock.elapsed().as_secs_f64() * 1e3);
+                let clock = Instant::now();
+                let f = p.install(|| first_contacts(&w, &opts)).expect("contacts");
+                t[k][1].push(clock.elapsed().as_secs_f64() * 1e3);
+                let clock = Instant::now();
+                let e = p.install(|| earliest_contact(&w, &opts)).expect("earliest");
+                t[k][2].push(clock.elapsed().as_secs_f64() * 1e3);
+                assert_eq!(e.as_ref(), f.contacts.first());
+                assert!(f.undecided.is_empty());
+                counts = (c.len(), f.narrow, f.contacts.len());
+            }
+        }
+        for (k, threads) in [1, 2].into_iter().enumerate() {
+            let [b, f, e] = t[k].clone();
+            let (b, f, e) = (median(b), median(f), median(e));
+            println!(
+                "| {n} | {threads} | {} | {} | {} | {b:.2} | {f:.2} | {:.2} | {e:.2} |",
+                counts.0,
+                counts.1,
+                counts.2,
+                f - b
+            );
+        }
+    }
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    let what = args.get(1).map_or("all", String::as_str);
+    if what == "broad" || what == "all" {
+        broad();
+    }
+    if what == "one" {
+        let n: usize = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(1_000_000);
+        let b = boxes(n, n as u64);
+        for _ in 0..5 {
+            let clock = Instant::now();
+            let p = sweep_and_prune(&b, SweepAxis::LargestVariance).len();
+            println!("{n} boxes, {p} pairs: {:.1} ms", clock.elapsed().as_secs_f64() * 1e3);
+        }
+    }
+    if what == "step" || what == "all" {
+        step(args.get(2).map(String::as_str));
+    }
+}
