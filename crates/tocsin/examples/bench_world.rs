@@ -8,7 +8,10 @@
 //!    three shared meshes) turning and moving by screw motions; the broad phase
 //!    (`World::candidate_pairs`), `first_contacts` and `earliest_contact`, on 1 and 2 threads.
 //!
-//! `cargo run --release --example bench_world -- [broad|step|all] [bunny.obj]`
+//! 3. `pairs`: the single query on every broad-phase pair of the 10,000-body step, timed one by
+//!    one and grouped by outcome (no contact, contact at the start, later) and mesh pair.
+//!
+//! `cargo run --release --example bench_world -- [broad|step|pairs|all] [bunny.obj]`
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -59,7 +62,9 @@ fn broad() {
         for _ in 0..reps {
             for (k, p) in pools.iter().enumerate() {
                 let clock = Instant::now();
-                pairs = p.install(|| sweep_and_prune(&b, SweepAxis::Principal)).len();
+                pairs = p
+                    .install(|| sweep_and_prune(&b, SweepAxis::Principal))
+                    .len();
                 t[k][0].push(clock.elapsed().as_secs_f64() * 1e3);
                 let clock = Instant::now();
                 p.install(|| sweep_and_prune(&b, SweepAxis::LargestVariance));
@@ -182,12 +187,62 @@ fn main() {
         broad();
     }
     if what == "one" {
-        let n: usize = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(1_000_000);
+        let n: usize = args
+            .get(2)
+            .and_then(|s| s.parse().ok())
+            .unwrap_or(1_000_000);
         let b = boxes(n, n as u64);
         for _ in 0..5 {
             let clock = Instant::now();
             let p = sweep_and_prune(&b, SweepAxis::LargestVariance).len();
-            println!("{n} boxes, {p} pairs: {:.1} ms", clock.elapsed().as_secs_f64() * 1e3);
+            println!(
+                "{n} boxes, {p} pairs: {:.1} ms",
+                clock.elapsed().as_secs_f64() * 1e3
+            );
+        }
+    }
+    if what == "pairs" {
+        let meshes = vec![
+            scaled(tocsin::mesh::torus_knot(120, 12).expect("knot"), 1.0),
+            scaled(tocsin::mesh::plate(1.0, 8).expect("plate"), 1.0),
+            scaled(
+                TriMesh::load(args.get(2).expect("pairs needs the bunny's OBJ")).expect("bunny"),
+                1.0,
+            ),
+        ];
+        let w = world(10_000, &meshes, 10_000);
+        let f = first_contacts(&w, &WorldOptions::default()).expect("contacts");
+        let pairs = w.candidate_pairs(&WorldOptions::default()).expect("broad");
+        let mut stats = std::collections::BTreeMap::new();
+        for &(i, j) in &pairs {
+            let (i, j) = (i as usize, j as usize);
+            let clock = Instant::now();
+            let c = tocsin::time_of_contact(
+                w.mesh(i),
+                w.motion(i),
+                w.mesh(j),
+                w.motion(j),
+                &Default::default(),
+            )
+            .expect("toc");
+            let dt = clock.elapsed().as_secs_f64() * 1e6;
+            let key = match c {
+                None => "none",
+                Some(c) if c.time == 0.0 => "start",
+                Some(_) => "later",
+            };
+            let kinds = (i % 3).min(j % 3) * 10 + (i % 3).max(j % 3);
+            let e = stats.entry((key, kinds)).or_insert((0usize, 0.0f64));
+            e.0 += 1;
+            e.1 += dt;
+        }
+        println!("narrow {} of {} candidates", f.narrow, pairs.len());
+        for ((k, kinds), (n, t)) in stats {
+            println!(
+                "{k} meshes {kinds:02}: {n} pairs, {:.1} ms total, {:.1} us each",
+                t / 1e3,
+                t / n as f64
+            );
         }
     }
     if what == "step" || what == "all" {

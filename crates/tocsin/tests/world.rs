@@ -164,7 +164,13 @@ fn sort_and_sweep_in_cells_handles_mixed_sizes_flat_scenes_and_bad_boxes() {
             Vec3::new(0.001, 0.6, 0.6),
             Vec3::splat(0.3),
         ][k % 3];
-        mixed.insert(r.random_range(0..mixed.len()), Aabb { min: c - h, max: c + h });
+        mixed.insert(
+            r.random_range(0..mixed.len()),
+            Aabb {
+                min: c - h,
+                max: c + h,
+            },
+        );
     }
     let n = check(&mixed, "mixed");
     assert!(n > 1000, "{n}");
@@ -207,7 +213,9 @@ fn sort_and_sweep_in_cells_handles_mixed_sizes_flat_scenes_and_bad_boxes() {
     bad[3].min.x = f64::NAN;
     bad[7].max = Vec3::splat(f64::INFINITY);
     let pairs = sweep_and_prune(&bad, SweepAxis::Principal);
-    assert!(pairs.iter().all(|&(i, j)| ![3, 7].contains(&i) && ![3, 7].contains(&j)));
+    assert!(pairs
+        .iter()
+        .all(|&(i, j)| ![3, 7].contains(&i) && ![3, 7].contains(&j)));
     assert_eq!(pairs, all_pairs(&bad));
 }
 

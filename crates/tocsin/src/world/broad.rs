@@ -127,7 +127,11 @@ pub fn sweep_and_prune(boxes: &[Aabb], axis: SweepAxis) -> Vec<(u32, u32)> {
         .filter(|(_, b)| b.min.is_finite() && b.max.is_finite())
         .map(|(i, b)| {
             let (lo, hi) = project(b);
-            Projected { lo, hi, id: i as u32 }
+            Projected {
+                lo,
+                hi,
+                id: i as u32,
+            }
         })
         .collect();
     let grid = grid(&projected);
@@ -283,9 +287,11 @@ fn grid(sorted: &[Projected]) -> Grid {
     let span = [(hi[0] - lo[0]).max(0.0), (hi[1] - lo[1]).max(0.0)];
     let most = (4.0 * sorted.len() as f64).max(1.0);
     // The smallest cell that keeps the count under `most`.
-    let floor = (span[0] * span[1] / most).sqrt().max(span[0].max(span[1]) / most);
+    let floor = (span[0] * span[1] / most)
+        .sqrt()
+        .max(span[0].max(span[1]) / most);
     let size = (2.0 * median).max(floor);
-    if !(size.is_finite() && size > 0.0) || !lo[0].is_finite() || !lo[1].is_finite() {
+    if !(size.is_finite() && size > 0.0 && lo[0].is_finite() && lo[1].is_finite()) {
         return Grid {
             origin: [0.0; 2],
             size: 1.0,
@@ -354,7 +360,10 @@ fn sweep_frame(boxes: &[Aabb], axis: SweepAxis) -> [Vec3; 3] {
         SweepAxis::Principal => {
             let m = crate::bvh::eigen::principal_axes(cov);
             let frame = [m.x_axis, m.y_axis, m.z_axis];
-            if frame.iter().all(|d| d.is_finite() && (d.length() - 1.0).abs() < 1e-6) {
+            if frame
+                .iter()
+                .all(|d| d.is_finite() && (d.length() - 1.0).abs() < 1e-6)
+            {
                 frame
             } else {
                 [Vec3::X, Vec3::Y, Vec3::Z]
