@@ -31,6 +31,9 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(queries::within_distance, m)?)?;
     m.add_class::<motion::Motion>()?;
     m.add_function(wrap_pyfunction!(motion::orthonormalize, m)?)?;
+    m.add_function(wrap_pyfunction!(motion::_motion_from_parts, m)?)?;
+    m.add_function(wrap_pyfunction!(robot::_robot_from_recipe, m)?)?;
+    m.add_function(wrap_pyfunction!(robot::_scene_from_parts, m)?)?;
     m.add_class::<contact::ContactResult>()?;
     m.add_function(wrap_pyfunction!(contact::time_of_contact, m)?)?;
     m.add_function(wrap_pyfunction!(contact::motion_is_free, m)?)?;

@@ -185,6 +185,14 @@ impl Mesh {
         numpy::PyArray1::from_vec(py, flat).reshape([self.inner.num_triangles(), 3])
     }
 
+    /// Pickling: the vertices and triangles; unpickling rebuilds the hierarchy (deterministic:
+    /// every query answers bit for bit as on the original).
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let cls = py.import("tocsin._core")?.getattr("Mesh")?;
+        let args = (self.vertices(py)?, self.triangles(py)?);
+        Ok((cls, args).into_pyobject(py)?.into_any())
+    }
+
     fn __repr__(&self) -> String {
         format!(
             "Mesh(num_vertices={}, num_triangles={})",

@@ -88,9 +88,48 @@ impl Motion {
         }
     }
 
+    /// Pickling: the kind, the end poses and (interp) the centre; rebuilt exactly.
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let f = py.import("tocsin._core")?.getattr("_motion_from_parts")?;
+        let m = &self.inner;
+        let kind = match self.kind() {
+            "translation" if m.is_stationary() => "stationary",
+            k => k,
+        };
+        let center = m.axis_point().to_array();
+        let args = (
+            kind,
+            pose_to_numpy(py, &m.start())?,
+            pose_to_numpy(py, &m.end())?,
+            center,
+        );
+        Ok((f, args).into_pyobject(py)?.into_any())
+    }
+
     fn __repr__(&self) -> String {
         format!("Motion.{}(...)", self.kind())
     }
+}
+
+/// Unpickles a Motion (`Motion.__reduce__`).
+#[pyfunction]
+pub(crate) fn _motion_from_parts(
+    py: Python<'_>,
+    kind: &str,
+    start: &Bound<'_, PyAny>,
+    end: &Bound<'_, PyAny>,
+    center: [f64; 3],
+) -> PyResult<Motion> {
+    let (a, b) = (pose_from(start, "start")?, pose_from(end, "end")?);
+    let inner = match kind {
+        "stationary" => Ok(tocsin::Motion::stationary(a)),
+        "translation" => tocsin::Motion::translation(a, b),
+        "interp" => tocsin::Motion::interp(a, b, Vec3::from_array(center)),
+        "screw" => tocsin::Motion::screw(a, b),
+        other => return Err(error(py, "MotionError", format!("unknown motion kind {other:?}"))),
+    }
+    .map_err(|e| motion_error(py, e))?;
+    Ok(Motion { inner })
 }
 
 /// A copy of the 4x4 pose with its rotation block replaced by the nearest rotation, for input

@@ -10,7 +10,7 @@ use crate::pool;
 use numpy::{PyArray1, PyArray3, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use std::path::PathBuf;
-use std::sync::{Arc, RwLock};
+use std::sync::{Arc, Mutex, RwLock};
 use tocsin::robot::query as rq;
 use tocsin::robot::{RobotOptions, Scene as CoreScene};
 use tocsin::{RobotError, Vec3};
@@ -44,6 +44,15 @@ pub(crate) struct Robot {
     /// so a query running in another thread keeps the robot it started with, and no borrow
     /// error can reach Python.
     inner: RwLock<Arc<tocsin::Robot>>,
+    /// How the robot was made and edited, replayed on unpickling: the URDF and SRDF texts (read
+    /// once), absolute mesh folders, then every successful edit in order. The lock is held
+    /// across each edit, so the order is the order the edits were applied in.
+    recipe: Mutex<Vec<Py<PyAny>>>,
+}
+
+/// A path made absolute (a Ray worker runs in another folder), unchanged when that fails.
+fn absolute(p: &std::path::Path) -> PathBuf {
+    std::path::absolute(p).unwrap_or_else(|_| p.to_path_buf())
 }
 
 /// Reads a snapshot out of a lock (a poisoned lock still holds a whole value: edits replace it
@@ -56,6 +65,63 @@ fn snapshot<T>(lock: &RwLock<Arc<T>>) -> Arc<T> {
 fn edit<T: Clone, R>(lock: &RwLock<Arc<T>>, f: impl FnOnce(&mut T) -> R) -> R {
     let mut guard = lock.write().unwrap_or_else(|p| p.into_inner());
     f(Arc::make_mut(&mut guard))
+}
+
+impl Robot {
+    /// Applies an edit and, when it succeeds, appends `op` to the recipe (under one lock).
+    fn recorded<R>(
+        &self,
+        py: Python<'_>,
+        op: Py<PyAny>,
+        f: impl FnOnce(&mut tocsin::Robot) -> Result<R, RobotError>,
+    ) -> PyResult<R> {
+        let mut recipe = self.recipe.lock().unwrap_or_else(|p| p.into_inner());
+        let out = edit(&self.inner, f).map_err(|e| robot_error(py, e))?;
+        recipe.push(op);
+        Ok(out)
+    }
+}
+
+/// Unpickles a Robot (`Robot.__reduce__`): replays its recipe.
+#[pyfunction]
+pub(crate) fn _robot_from_recipe(py: Python<'_>, recipe: Vec<Bound<'_, PyAny>>) -> PyResult<Robot> {
+    let bad = || error(py, "RobotError", "a pickled robot's recipe is malformed");
+    let first = recipe.first().ok_or_else(bad)?;
+    let (tag, xml, base, dirs): (String, String, Option<PathBuf>, Vec<PathBuf>) =
+        first.extract().map_err(|_| bad())?;
+    if tag != "urdf" {
+        return Err(bad());
+    }
+    let robot = Robot::from_urdf_string(py, &xml, base, dirs)?;
+    for op in &recipe[1..] {
+        let tag: String = op.get_item(0)?.extract()?;
+        match tag.as_str() {
+            "srdf" => {
+                robot.apply_srdf_string(py, &op.get_item(1)?.extract::<String>()?)?;
+            }
+            "allow" => robot.allow_collision(
+                py,
+                &op.get_item(1)?.extract::<String>()?,
+                &op.get_item(2)?.extract::<String>()?,
+            )?,
+            "attach" => {
+                let mesh = op.get_item(2)?;
+                let mesh = mesh.cast::<Mesh>().map_err(|_| bad())?;
+                robot.attach(
+                    py,
+                    &op.get_item(1)?.extract::<String>()?,
+                    &mesh.borrow(),
+                    &op.get_item(3)?.extract::<String>()?,
+                    Some(&op.get_item(4)?),
+                    op.get_item(5)?.extract()?,
+                )?
+            }
+            "detach" => robot.detach(py, &op.get_item(1)?.extract::<String>()?)?,
+            "base" => robot.set_base(&op.get_item(1)?)?,
+            _ => return Err(bad()),
+        }
+    }
+    Ok(robot)
 }
 
 /// A configuration array of shape (dof,).
@@ -126,7 +192,21 @@ impl Robot {
         package_dirs: Vec<PathBuf>,
         srdf: Option<PathBuf>,
     ) -> PyResult<Self> {
-        let dirs = package_dirs;
+        let dirs: Vec<PathBuf> = package_dirs.iter().map(|d| absolute(d)).collect();
+        let read = |p: &PathBuf| {
+            std::fs::read_to_string(p).map_err(|e| {
+                robot_error(
+                    py,
+                    RobotError::Parse {
+                        path: p.clone(),
+                        message: e.to_string(),
+                    },
+                )
+            })
+        };
+        let xml = read(&path)?;
+        let srdf_xml = srdf.as_ref().map(read).transpose()?;
+        let base = path.parent().map(absolute);
         let robot = py
             .detach(|| -> Result<tocsin::Robot, RobotError> {
                 let mut r = tocsin::Robot::from_urdf_file(&path, &dirs)?;
@@ -136,8 +216,16 @@ impl Robot {
                 Ok(r)
             })
             .map_err(|e| robot_error(py, e))?;
+        let mut recipe = vec![("urdf", xml, base, dirs)
+            .into_pyobject(py)?
+            .into_any()
+            .unbind()];
+        if let Some(text) = srdf_xml {
+            recipe.push(("srdf", text).into_pyobject(py)?.into_any().unbind());
+        }
         Ok(Self {
             inner: RwLock::new(Arc::new(robot)),
+            recipe: Mutex::new(recipe),
         })
     }
 
@@ -153,25 +241,40 @@ impl Robot {
         let robot = py
             .detach(|| tocsin::Robot::from_urdf_str(xml, base_dir.as_deref(), &package_dirs))
             .map_err(|e| robot_error(py, e))?;
+        let base = base_dir.as_deref().map(absolute);
+        let dirs: Vec<PathBuf> = package_dirs.iter().map(|d| absolute(d)).collect();
+        let first = ("urdf", xml, base, dirs).into_pyobject(py)?.into_any().unbind();
         Ok(Self {
             inner: RwLock::new(Arc::new(robot)),
+            recipe: Mutex::new(vec![first]),
         })
     }
 
     /// Allows the link pairs an SRDF file disables (<disable_collisions>); returns how many
     /// collision-object pairs that removed from the checks.
     fn apply_srdf(&self, py: Python<'_>, path: PathBuf) -> PyResult<usize> {
-        edit(&self.inner, |r| r.apply_srdf_file(&path)).map_err(|e| robot_error(py, e))
+        let xml = std::fs::read_to_string(&path).map_err(|e| {
+            robot_error(
+                py,
+                RobotError::Parse {
+                    path: path.clone(),
+                    message: e.to_string(),
+                },
+            )
+        })?;
+        self.apply_srdf_string(py, &xml)
     }
 
     /// As apply_srdf, from SRDF text.
     fn apply_srdf_string(&self, py: Python<'_>, xml: &str) -> PyResult<usize> {
-        edit(&self.inner, |r| r.apply_srdf_str(xml)).map_err(|e| robot_error(py, e))
+        let op = ("srdf", xml).into_pyobject(py)?.into_any().unbind();
+        self.recorded(py, op, |r| r.apply_srdf_str(xml))
     }
 
     /// Allows two links (or attached objects) to touch: their pair is not checked.
     fn allow_collision(&self, py: Python<'_>, link1: &str, link2: &str) -> PyResult<()> {
-        edit(&self.inner, |r| r.allow_collision(link1, link2)).map_err(|e| robot_error(py, e))
+        let op = ("allow", link1, link2).into_pyobject(py)?.into_any().unbind();
+        self.recorded(py, op, |r| r.allow_collision(link1, link2))
     }
 
     /// Attaches `mesh` to `link` (a grasped part): `pose` (4x4) places the mesh in the link's
@@ -192,15 +295,36 @@ impl Robot {
             None => tocsin::Pose::IDENTITY,
         };
         let touch: Vec<&str> = touch_links.iter().map(String::as_str).collect();
-        edit(&self.inner, |r| {
-            r.attach(name, &mesh.inner, link, &pose, &touch)
-        })
-        .map_err(|e| robot_error(py, e))
+        let m = Mesh {
+            inner: mesh.inner.clone(),
+        };
+        let op = ("attach", name, m, link, pose_to_numpy(py, &pose)?, touch_links.clone())
+            .into_pyobject(py)?
+            .into_any()
+            .unbind();
+        self.recorded(py, op, |r| r.attach(name, &mesh.inner, link, &pose, &touch))
     }
 
     /// Removes an attached object.
     fn detach(&self, py: Python<'_>, name: &str) -> PyResult<()> {
-        edit(&self.inner, |r| r.detach(name)).map_err(|e| robot_error(py, e))
+        let op = ("detach", name).into_pyobject(py)?.into_any().unbind();
+        self.recorded(py, op, |r| r.detach(name))
+    }
+
+    /// Pickling: the recipe (URDF and SRDF texts, absolute mesh folders, edits in order),
+    /// replayed on unpickling. The URDF's collision meshes are read again from their files,
+    /// which must be at the same absolute paths where the robot is unpickled (on every node of
+    /// a cluster); attached meshes travel with the pickle.
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let f = py.import("tocsin._core")?.getattr("_robot_from_recipe")?;
+        let ops: Vec<Py<PyAny>> = self
+            .recipe
+            .lock()
+            .unwrap_or_else(|p| p.into_inner())
+            .iter()
+            .map(|o| o.clone_ref(py))
+            .collect();
+        Ok((f, (ops,)).into_pyobject(py)?.into_any())
     }
 
     /// The robot's name (from the URDF).
@@ -273,9 +397,13 @@ impl Robot {
 
     #[setter]
     fn set_base(&self, pose: &Bound<'_, PyAny>) -> PyResult<()> {
+        let py = pose.py();
         let p = pose_from(pose, "base")?;
-        edit(&self.inner, |r| r.set_base(p));
-        Ok(())
+        let op = ("base", pose_to_numpy(py, &p)?).into_pyobject(py)?.into_any().unbind();
+        self.recorded(py, op, |r| {
+            r.set_base(p);
+            Ok(())
+        })
     }
 
     /// The collision mesh of an object (vertices in its body's frame: the frame of the link
@@ -644,12 +772,43 @@ impl Scene {
         snapshot(&self.inner).obstacles().len()
     }
 
+    /// Pickling: the obstacles' names, meshes and poses.
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let f = py.import("tocsin._core")?.getattr("_scene_from_parts")?;
+        let items = snapshot(&self.inner)
+            .obstacles()
+            .iter()
+            .map(|o| {
+                let mesh = Py::new(
+                    py,
+                    Mesh {
+                        inner: o.mesh.clone(),
+                    },
+                )?;
+                Ok((o.name.clone(), mesh, pose_to_numpy(py, &o.pose)?))
+            })
+            .collect::<PyResult<Vec<_>>>()?;
+        Ok((f, (items,)).into_pyobject(py)?.into_any())
+    }
+
     fn __repr__(&self) -> String {
         format!(
             "Scene({} obstacles)",
             snapshot(&self.inner).obstacles().len()
         )
     }
+}
+
+/// Unpickles a Scene (`Scene.__reduce__`).
+#[pyfunction]
+pub(crate) fn _scene_from_parts(
+    items: Vec<(String, Bound<'_, Mesh>, Bound<'_, PyAny>)>,
+) -> PyResult<Scene> {
+    let scene = Scene::new();
+    for (name, mesh, pose) in &items {
+        scene.add(name, &mesh.borrow(), Some(pose))?;
+    }
+    Ok(scene)
 }
 
 /// When and where the robot first comes within the tolerance of itself or an obstacle along a
