@@ -22,12 +22,12 @@ demo:
 # (numpy 1.26) installs the package with `pip install .` from the clone, as a user would. Both
 # get what the tests use (matplotlib, trimesh, pybullet for its pybullet_data meshes and as the
 # second forward-kinematics implementation, ompl for the planning example, scipy's ConvexHull as
-# the penetration-depth oracle): no test
+# the penetration-depth oracle, ray for tocsin.distributed on a local cluster): no test
 # skips itself.
 $(VPY):
 	$(PYTHON) -m venv $(VENV)
 	$(VPY) -m pip install -q --upgrade pip
-	$(VPY) -m pip install -q "maturin>=1.5,<2" "numpy>=2" pytest mypy matplotlib trimesh pybullet ompl scipy
+	$(VPY) -m pip install -q "maturin>=1.5,<2" "numpy>=2" pytest mypy matplotlib trimesh pybullet ompl scipy ray tqdm
 
 venv: $(VPY)
 
@@ -52,7 +52,7 @@ py-test: wheel
 	$(VPY) -m mypy.stubtest tocsin._core --allowlist crates/tocsin-py/stubtest-allowlist.txt
 	rm -rf $(VENV_NP1)
 	$(PYTHON) -m venv $(VENV_NP1)
-	$(VENV_NP1)/bin/python -m pip install -q "numpy>=1.26,<2" pytest matplotlib trimesh pybullet ompl scipy
+	$(VENV_NP1)/bin/python -m pip install -q "numpy>=1.26,<2" pytest matplotlib trimesh pybullet ompl scipy ray tqdm
 	$(VENV_NP1)/bin/python -m pip install -q .
 	$(VENV_NP1)/bin/python -c "import numpy, tocsin; assert numpy.__version__.startswith('1.'), numpy.__version__"
 	$(VENV_NP1)/bin/python -m pytest -q crates/tocsin-py/tests

@@ -126,7 +126,13 @@ pub(crate) fn _motion_from_parts(
         "translation" => tocsin::Motion::translation(a, b),
         "interp" => tocsin::Motion::interp(a, b, Vec3::from_array(center)),
         "screw" => tocsin::Motion::screw(a, b),
-        other => return Err(error(py, "MotionError", format!("unknown motion kind {other:?}"))),
+        other => {
+            return Err(error(
+                py,
+                "MotionError",
+                format!("unknown motion kind {other:?}"),
+            ))
+        }
     }
     .map_err(|e| motion_error(py, e))?;
     Ok(Motion { inner })

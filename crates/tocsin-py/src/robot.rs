@@ -243,7 +243,10 @@ impl Robot {
             .map_err(|e| robot_error(py, e))?;
         let base = base_dir.as_deref().map(absolute);
         let dirs: Vec<PathBuf> = package_dirs.iter().map(|d| absolute(d)).collect();
-        let first = ("urdf", xml, base, dirs).into_pyobject(py)?.into_any().unbind();
+        let first = ("urdf", xml, base, dirs)
+            .into_pyobject(py)?
+            .into_any()
+            .unbind();
         Ok(Self {
             inner: RwLock::new(Arc::new(robot)),
             recipe: Mutex::new(vec![first]),
@@ -273,7 +276,10 @@ impl Robot {
 
     /// Allows two links (or attached objects) to touch: their pair is not checked.
     fn allow_collision(&self, py: Python<'_>, link1: &str, link2: &str) -> PyResult<()> {
-        let op = ("allow", link1, link2).into_pyobject(py)?.into_any().unbind();
+        let op = ("allow", link1, link2)
+            .into_pyobject(py)?
+            .into_any()
+            .unbind();
         self.recorded(py, op, |r| r.allow_collision(link1, link2))
     }
 
@@ -298,7 +304,14 @@ impl Robot {
         let m = Mesh {
             inner: mesh.inner.clone(),
         };
-        let op = ("attach", name, m, link, pose_to_numpy(py, &pose)?, touch_links.clone())
+        let op = (
+            "attach",
+            name,
+            m,
+            link,
+            pose_to_numpy(py, &pose)?,
+            touch_links.clone(),
+        )
             .into_pyobject(py)?
             .into_any()
             .unbind();
@@ -399,7 +412,10 @@ impl Robot {
     fn set_base(&self, pose: &Bound<'_, PyAny>) -> PyResult<()> {
         let py = pose.py();
         let p = pose_from(pose, "base")?;
-        let op = ("base", pose_to_numpy(py, &p)?).into_pyobject(py)?.into_any().unbind();
+        let op = ("base", pose_to_numpy(py, &p)?)
+            .into_pyobject(py)?
+            .into_any()
+            .unbind();
         self.recorded(py, op, |r| {
             r.set_base(p);
             Ok(())

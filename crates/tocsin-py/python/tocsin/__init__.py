@@ -43,6 +43,7 @@ from ._batch import ContactBatch, DistanceBatch, collide_batch, distance_batch, 
 from ._plot import plot_contact
 from ._errors import (
     ConfigurationError,
+    DistributedError,
     IterationLimitError,
     MeshError,
     MeshFileError,
@@ -113,6 +114,7 @@ def pairs_within(world, poses, distance):
 
 
 __all__ = [
+    "DistributedError",
     "World",
     "WorldContact",
     "WorldError",

@@ -10,6 +10,9 @@ from numpy.typing import ArrayLike
 __version__: str
 
 __all__ = [
+    "_motion_from_parts",
+    "_robot_from_recipe",
+    "_scene_from_parts",
     "__version__",
     "World",
     "WorldContact",
@@ -616,3 +619,12 @@ class WorldContact:
     @property
     def time(self) -> float:
         """The contact's time in [0, 1]."""
+
+def _motion_from_parts(kind: str, start: ArrayLike, end: ArrayLike, center: Sequence[float]) -> Motion:
+    """Unpickles a Motion."""
+
+def _robot_from_recipe(recipe: Sequence[tuple]) -> Robot:
+    """Unpickles a Robot: replays its recipe."""
+
+def _scene_from_parts(items: Sequence[tuple[str, Mesh, ArrayLike]]) -> Scene:
+    """Unpickles a Scene."""

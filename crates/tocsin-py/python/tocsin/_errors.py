@@ -63,3 +63,15 @@ class ConfigurationError(TocsinError, ValueError):
 class WorldError(TocsinError, ValueError):
     """A world query got a body index out of range, or a number of poses other than one per
     body."""
+
+
+class DistributedError(TocsinError, RuntimeError):
+    """A tocsin.distributed call failed: ray is not installed, the cluster cannot be reached, or
+    a chunk failed (its query raised, or its worker kept dying past the retries). ``chunk`` is
+    the failing chunk's index (None when no chunk ran); the original error is ``__cause__``."""
+
+    chunk: "int | None"
+
+    def __init__(self, message: str, chunk: "int | None" = None) -> None:
+        super().__init__(message)
+        self.chunk = chunk

@@ -1,0 +1,433 @@
+"""tocsin's batch queries on a Ray cluster, with the same results as the local batches.
+
+Install with ``pip install "tocsin[ray]"``; ``import tocsin`` never imports ray, only this
+module does. Each batch is cut into chunks of rows; each chunk runs as a Ray task calling the
+local batch function (all cores of its worker), and the chunks' results are put back together
+in input order: the answer is identical, bit for bit, to the local batch's. A task takes one of
+Ray's CPUs and runs its chunk on one thread (``RAYON_NUM_THREADS=1`` in the workers), so a
+cluster of N CPUs runs N chunks at once.
+
+Meshes, robots and scenes go into Ray's object store once per call (``ray.put``), not once per
+task; a worker process unpickles each of them (rebuilding a mesh's hierarchy: 34 ms for the
+34,000-triangle knot) the first time one of its tasks needs it, then keeps it for the later
+tasks of the call (a per-process cache, the benefit of an actor pool without its bookkeeping;
+docs/BENCHMARKS.md has the comparison).
+
+Starting a cluster (shell)::
+
+    ray start --head                       # on the head node; prints its address
+    ray start --address HEAD_IP:6379       # on every other node
+
+then ``tocsin.distributed.connect("auto")`` (or ``address="auto"`` on any call) in a script
+running on one of its nodes. Without an address, a call joins the Ray runtime already
+initialized in this process, or starts a local one. A robot pickles as its recipe: its URDF's
+collision meshes are read again on the workers, so they must be at the same absolute paths on
+every node.
+
+Failures: a chunk whose worker died, or whose task raised anything but an error of tocsin's (an
+out-of-memory, a lost object), is run again, up to ``max_retries`` times (Ray's own retries);
+a chunk whose query raised an error of tocsin's (bad input: deterministic, so not retried), or
+that still fails after the retries, raises :class:`tocsin.DistributedError` naming the chunk
+and its rows, with the original error as ``__cause__``.
+
+Command line: ``python -m tocsin.distributed queries.npz results.npz [--address auto]`` (the
+file format is in :func:`main`).
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+import uuid
+from collections import OrderedDict
+from typing import Any, Callable, Optional, Sequence
+
+import numpy as np
+
+from . import _batch
+from ._core import Mesh, Robot, Scene
+from ._errors import DistributedError, TocsinError
+
+__all__ = [
+    "DistributedError",
+    "connect",
+    "distance_batch",
+    "collide_batch",
+    "time_of_contact_batch",
+    "paths_are_free",
+    "check_configurations",
+    "main",
+]
+
+#: Rows per task when ``chunk_size`` is not given: the smaller of this and an even split in
+#: four tasks per worker CPU (docs/BENCHMARKS.md, "Ray").
+DEFAULT_CHUNK = 2048
+
+
+def _ray():
+    try:
+        import ray
+    except ImportError as e:  # pragma: no cover - exercised only without ray
+        raise DistributedError(
+            "tocsin.distributed needs ray, which is not installed: pip install 'tocsin[ray]'"
+        ) from e
+    return ray
+
+
+def connect(address: Optional[str] = None, **init_kwargs: Any) -> None:
+    """Joins the Ray cluster at ``address`` ("auto": the running cluster this node belongs to;
+    "ray://host:10001": a remote client), or, with no address, the runtime already running in
+    this process or a new local one. Further keywords go to ``ray.init``. Raises
+    DistributedError when ray is missing or the cluster cannot be reached."""
+    ray = _ray()
+    if ray.is_initialized():
+        return
+    try:
+        ray.init(address=address, include_dashboard=False, **init_kwargs)
+    except Exception as e:  # ConnectionError, RuntimeError, ValueError from ray.init
+        where = address or "a new local cluster"
+        raise DistributedError(f"cannot reach the Ray cluster at {where}: {e}") from e
+
+
+# Objects unpickled in this worker process, by token (the newest kept).
+_CACHE: "OrderedDict[str, Any]" = OrderedDict()
+_CACHE_SIZE = 32
+
+
+def _share(ray, obj):
+    """A token and the object-store reference of a mesh, robot or scene."""
+    return (uuid.uuid4().hex, ray.put(obj))
+
+
+def _resolve(shared):
+    token, ref = shared
+    obj = _CACHE.get(token)
+    if obj is None:
+        obj = _ray().get(ref)
+        _CACHE[token] = obj
+        while len(_CACHE) > _CACHE_SIZE:
+            _CACHE.popitem(last=False)
+    else:
+        _CACHE.move_to_end(token)
+    return obj
+
+
+def _call(fn: Callable, shared: dict, rows: dict, fixed: dict, chunk: int):
+    """Runs one chunk on a worker: the shared objects from the cache, the chunk's rows."""
+    kwargs = {name: _resolve(s) for name, s in shared.items()}
+    kwargs.update(rows)
+    kwargs.update(fixed)
+    try:
+        return ("ok", fn(**kwargs))
+    except TocsinError as e:
+        # Bad input: deterministic, reported (not retried) with the chunk.
+        return ("error", e)
+
+
+_REMOTE = None
+
+
+def _remote(ray):
+    """The chunk task, registered with Ray once per process."""
+    global _REMOTE
+    if _REMOTE is None:
+        _REMOTE = ray.remote(_call)
+    return _REMOTE
+
+
+def _concat(parts: list):
+    first = parts[0]
+    if isinstance(first, tuple) and hasattr(first, "_fields"):
+        return type(first)(*(np.concatenate([getattr(p, f) for p in parts]) for f in first._fields))
+    return np.concatenate(parts)
+
+
+def _run(
+    fn: Callable,
+    shared: dict,
+    rows: dict,
+    fixed: dict,
+    count: int,
+    chunk_size: Optional[int],
+    address: Optional[str],
+    progress: bool,
+    max_retries: int,
+):
+    """The chunked run of ``fn`` (module docs); results in input order."""
+    if count == 0:
+        kwargs = dict(shared)
+        kwargs.update(rows)
+        kwargs.update(fixed)
+        return fn(**kwargs)
+    if chunk_size is not None and (not isinstance(chunk_size, (int, np.integer)) or chunk_size < 1):
+        raise DistributedError(f"chunk_size must be a positive integer, got {chunk_size!r}")
+    connect(address)
+    ray = _ray()
+    if chunk_size is None:
+        cpus = max(1, int(ray.cluster_resources().get("CPU", 1)))
+        chunk_size = max(1, min(DEFAULT_CHUNK, -(-count // (4 * cpus))))
+    chunk_size = int(chunk_size)
+    refs = {name: _share(ray, obj) for name, obj in shared.items()}
+    # One core per task, as Ray counts it: the worker's own thread pool is one thread.
+    task = _remote(ray).options(
+        num_cpus=1,
+        max_retries=max_retries,
+        retry_exceptions=True,
+        runtime_env={"env_vars": {"RAYON_NUM_THREADS": "1"}},
+    )
+    bounds = [(a, min(a + chunk_size, count)) for a in range(0, count, chunk_size)]
+    futures = [
+        task.remote(fn, refs, {k: v[a:b] for k, v in rows.items()}, fixed, i)
+        for i, (a, b) in enumerate(bounds)
+    ]
+    if progress:
+        _report_progress(ray, futures)
+    parts = []
+    for i, (fut, (a, b)) in enumerate(zip(futures, bounds)):
+        try:
+            status, value = ray.get(fut)
+        except Exception as e:
+            raise DistributedError(
+                f"chunk {i} (rows {a}:{b}) failed after {max_retries} retries: {e}", chunk=i
+            ) from e
+        if status == "error":
+            raise DistributedError(f"chunk {i} (rows {a}:{b}): {value}", chunk=i) from value
+        parts.append(value)
+    return _concat(parts)
+
+
+def _report_progress(ray, futures):
+    """Waits for the chunks, showing how many are done (tqdm when installed)."""
+    try:
+        from tqdm import tqdm
+
+        bar = tqdm(total=len(futures), unit="chunk", desc="tocsin")
+    except ImportError:
+        bar = None
+    pending = list(futures)
+    done = 0
+    while pending:
+        ready, pending = ray.wait(pending, num_returns=1)
+        done += len(ready)
+        if bar is not None:
+            bar.update(len(ready))
+        else:
+            print(f"tocsin: {done}/{len(futures)} chunks", file=sys.stderr)
+    if bar is not None:
+        bar.close()
+
+
+def _rows(name: str, value, dims: int) -> tuple:
+    """An array split by rows when it has ``dims`` dimensions, else broadcast (None)."""
+    arr = np.asarray(value, dtype=np.float64)
+    return (arr, len(arr)) if arr.ndim == dims else (arr, None)
+
+
+def _common(count_from: dict):
+    counts = {n: c for n, (_, c) in count_from.items() if c is not None}
+    if len(set(counts.values())) > 1:
+        raise DistributedError(f"row counts differ: {counts}")
+    return next(iter(counts.values()), 1)
+
+
+def distance_batch(
+    mesh1: Mesh,
+    poses1,
+    mesh2: Mesh,
+    poses2,
+    relative_error: float = 0.0,
+    absolute_error: float = 0.0,
+    *,
+    chunk_size: Optional[int] = None,
+    address: Optional[str] = None,
+    progress: bool = False,
+    max_retries: int = 3,
+) -> _batch.DistanceBatch:
+    """``tocsin.distance_batch`` on the Ray cluster: identical results, in input order."""
+    p1, p2 = _rows("poses1", poses1, 3), _rows("poses2", poses2, 3)
+    count = _common({"poses1": p1, "poses2": p2})
+    rows = {"poses1": p1[0]}
+    fixed = {"relative_error": relative_error, "absolute_error": absolute_error}
+    if p2[1] is None:
+        fixed["poses2"] = p2[0]
+    else:
+        rows["poses2"] = p2[0]
+    return _run(_batch.distance_batch, {"mesh1": mesh1, "mesh2": mesh2}, rows, fixed, count,
+                chunk_size, address, progress, max_retries)
+
+
+def collide_batch(
+    mesh1: Mesh,
+    poses1,
+    mesh2: Mesh,
+    poses2,
+    *,
+    chunk_size: Optional[int] = None,
+    address: Optional[str] = None,
+    progress: bool = False,
+    max_retries: int = 3,
+) -> np.ndarray:
+    """``tocsin.collide_batch`` on the Ray cluster: identical results, in input order."""
+    p1, p2 = _rows("poses1", poses1, 3), _rows("poses2", poses2, 3)
+    count = _common({"poses1": p1, "poses2": p2})
+    rows, fixed = {"poses1": p1[0]}, {}
+    if p2[1] is None:
+        fixed["poses2"] = p2[0]
+    else:
+        rows["poses2"] = p2[0]
+    return _run(_batch.collide_batch, {"mesh1": mesh1, "mesh2": mesh2}, rows, fixed, count,
+                chunk_size, address, progress, max_retries)
+
+
+def time_of_contact_batch(
+    mesh1: Mesh,
+    starts1,
+    ends1,
+    mesh2: Mesh,
+    starts2=None,
+    ends2=None,
+    kind: str = "interp",
+    tolerance: Optional[float] = None,
+    max_iterations: Optional[int] = None,
+    *,
+    chunk_size: Optional[int] = None,
+    address: Optional[str] = None,
+    progress: bool = False,
+    max_retries: int = 3,
+) -> _batch.ContactBatch:
+    """``tocsin.time_of_contact_batch`` on the Ray cluster: identical results, in input order."""
+    starts2 = np.eye(4) if starts2 is None else starts2
+    ends2 = starts2 if ends2 is None else ends2
+    arrays = {n: _rows(n, v, 3) for n, v in
+              {"starts1": starts1, "ends1": ends1, "starts2": starts2, "ends2": ends2}.items()}
+    count = _common(arrays)
+    rows = {n: a for n, (a, c) in arrays.items() if c is not None}
+    fixed = {n: a for n, (a, c) in arrays.items() if c is None}
+    fixed.update({"kind": kind, "tolerance": tolerance, "max_iterations": max_iterations})
+    return _run(_batch.time_of_contact_batch, {"mesh1": mesh1, "mesh2": mesh2}, rows, fixed,
+                count, chunk_size, address, progress, max_retries)
+
+
+def _robot_paths(robot, q0s, q1s, scene, tolerance, max_iterations):
+    return robot.paths_are_free(q0s, q1s, scene, tolerance=tolerance, max_iterations=max_iterations)
+
+
+def _robot_configurations(robot, qs, scene):
+    return robot.check_configurations(qs, scene)
+
+
+def paths_are_free(
+    robot: Robot,
+    q0s,
+    q1s,
+    scene: Optional[Scene] = None,
+    tolerance: Optional[float] = None,
+    max_iterations: Optional[int] = None,
+    *,
+    chunk_size: Optional[int] = None,
+    address: Optional[str] = None,
+    progress: bool = False,
+    max_retries: int = 3,
+) -> np.ndarray:
+    """``Robot.paths_are_free`` (exact joint-space edge checks) on the Ray cluster."""
+    a, b = np.asarray(q0s, dtype=np.float64), np.asarray(q1s, dtype=np.float64)
+    if a.shape != b.shape or a.ndim != 2:
+        raise DistributedError(f"q0s and q1s must both be (N, dof), got {a.shape} and {b.shape}")
+    shared = {"robot": robot, "scene": scene if scene is not None else Scene()}
+    fixed = {"tolerance": tolerance, "max_iterations": max_iterations}
+    return _run(_robot_paths, shared, {"q0s": a, "q1s": b}, fixed, len(a), chunk_size, address,
+                progress, max_retries)
+
+
+def check_configurations(
+    robot: Robot,
+    qs,
+    scene: Optional[Scene] = None,
+    *,
+    chunk_size: Optional[int] = None,
+    address: Optional[str] = None,
+    progress: bool = False,
+    max_retries: int = 3,
+) -> np.ndarray:
+    """``Robot.check_configurations`` (exact collision of each configuration) on the cluster."""
+    q = np.asarray(qs, dtype=np.float64)
+    if q.ndim != 2:
+        raise DistributedError(f"qs must be (N, dof), got {q.shape}")
+    shared = {"robot": robot, "scene": scene if scene is not None else Scene()}
+    return _run(_robot_configurations, shared, {"qs": q}, {}, len(q), chunk_size, address,
+                progress, max_retries)
+
+
+def _mesh_from(data, prefix: str) -> Mesh:
+    if f"{prefix}_path" in data:
+        return Mesh.load(str(data[f"{prefix}_path"]))
+    return Mesh(data[f"{prefix}_vertices"], data[f"{prefix}_triangles"])
+
+
+def main(argv: Optional[Sequence[str]] = None) -> int:
+    """``python -m tocsin.distributed QUERIES.npz RESULTS.npz [--address auto]``.
+
+    QUERIES.npz holds ``query`` (one of "distance", "collide", "time_of_contact",
+    "paths_are_free") and its arrays:
+
+    - meshes: ``mesh1_path`` (a mesh file) or ``mesh1_vertices`` (N, 3) and
+      ``mesh1_triangles`` (M, 3), the same for ``mesh2``;
+    - distance, collide: ``poses1`` (K, 4, 4), ``poses2`` (K, 4, 4) or (4, 4);
+    - time_of_contact: ``starts1``, ``ends1``, optional ``starts2``, ``ends2``, ``kind``
+      ("interp", "screw", "translation"), optional ``tolerance``;
+    - paths_are_free: ``urdf`` (a path), optional ``srdf``, ``q0s`` and ``q1s`` (N, dof), and
+      obstacles ``obstacle0_vertices``, ``obstacle0_triangles``, ``obstacle0_pose``, ...
+
+    RESULTS.npz gets the result's fields (distance, point1, ... for distance; ``collide`` or
+    ``free`` arrays for the others). Without ``--address`` it runs on a local Ray runtime.
+    Exit status 0 on success, 2 with a one-line message on any error.
+    """
+    ap = argparse.ArgumentParser(prog="python -m tocsin.distributed", description=(main.__doc__ or "").split("\n")[0])
+    ap.add_argument("queries")
+    ap.add_argument("results")
+    ap.add_argument("--address", default=None, help='"auto" for the running cluster; default: local')
+    ap.add_argument("--chunk-size", type=int, default=None)
+    ap.add_argument("--progress", action="store_true")
+    args = ap.parse_args(argv)
+    try:
+        data = np.load(args.queries, allow_pickle=False)
+        query = str(data["query"])
+        opts = dict(chunk_size=args.chunk_size, address=args.address, progress=args.progress)
+        if query in ("distance", "collide"):
+            m1, m2 = _mesh_from(data, "mesh1"), _mesh_from(data, "mesh2")
+            if query == "distance":
+                out = distance_batch(m1, data["poses1"], m2, data["poses2"], **opts)._asdict()
+            else:
+                out = {"collide": collide_batch(m1, data["poses1"], m2, data["poses2"], **opts)}
+        elif query == "time_of_contact":
+            m1, m2 = _mesh_from(data, "mesh1"), _mesh_from(data, "mesh2")
+            r = time_of_contact_batch(
+                m1, data["starts1"], data["ends1"], m2,
+                data["starts2"] if "starts2" in data else None,
+                data["ends2"] if "ends2" in data else None,
+                kind=str(data["kind"]) if "kind" in data else "interp",
+                tolerance=float(data["tolerance"]) if "tolerance" in data else None,
+                **opts,
+            )
+            out = r._asdict()
+        elif query == "paths_are_free":
+            robot = Robot.from_urdf(str(data["urdf"]), srdf=str(data["srdf"]) if "srdf" in data else None)
+            scene = Scene()
+            k = 0
+            while f"obstacle{k}_vertices" in data:
+                scene.add(f"obstacle{k}", _mesh_from(data, f"obstacle{k}"), data[f"obstacle{k}_pose"])
+                k += 1
+            out = {"free": paths_are_free(robot, data["q0s"], data["q1s"], scene, **opts)}
+        else:
+            raise DistributedError(f"unknown query {query!r}")
+        arrays: dict = {k: np.asarray(v) for k, v in out.items()}
+        np.savez(args.results, **arrays)
+    except (TocsinError, OSError, KeyError, ValueError) as e:
+        print(f"tocsin.distributed: {e}", file=sys.stderr)
+        return 2
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

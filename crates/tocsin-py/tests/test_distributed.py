@@ -1,0 +1,156 @@
+"""tocsin.distributed on a local Ray cluster (2 CPUs, loopback): the same results as the local
+batches, in input order, for any chunk size; failures reported with their chunk, or retried."""
+
+import os
+import pathlib
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import tocsin
+
+import ray  # installed by `make test`
+
+from tocsin import distributed
+
+ROOT = pathlib.Path(__file__).resolve().parents[3]
+PANDA = ROOT / "data" / "franka_panda" / "panda.urdf"
+
+
+@pytest.fixture(scope="module")
+def cluster():
+    info = ray.init(num_cpus=2, include_dashboard=False, log_to_driver=False)
+    yield info.address_info["address"]
+    ray.shutdown()
+
+
+def turn(axis, angle, t):
+    axis = np.asarray(axis, float) / np.linalg.norm(axis)
+    k = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
+    p = np.eye(4)
+    p[:3, :3] = np.eye(3) + np.sin(angle) * k + (1 - np.cos(angle)) * k @ k
+    p[:3, 3] = t
+    return p
+
+
+def knot_poses(n, seed):
+    rng = np.random.default_rng(seed)
+    return np.stack([turn(rng.normal(size=3), rng.uniform(0, 3), rng.uniform(-6, 6, size=3)) for _ in range(n)])
+
+
+def same(a, b):
+    if isinstance(a, tuple):
+        assert a._fields == b._fields
+        for f in a._fields:
+            np.testing.assert_array_equal(getattr(a, f), getattr(b, f), err_msg=f)
+    else:
+        np.testing.assert_array_equal(a, b)
+
+
+@pytest.mark.parametrize("chunk", [1, 7, 65536, None])
+def test_same_results_as_the_local_batches(cluster, chunk):
+    knot = tocsin.Mesh.torus_knot(120, 10)
+    poses = knot_poses(40, 1)
+    same(distributed.distance_batch(knot, poses, knot, np.eye(4), chunk_size=chunk),
+         tocsin.distance_batch(knot, poses, knot, np.eye(4)))
+    other = knot_poses(40, 2)
+    collide = distributed.collide_batch(knot, poses, knot, other, chunk_size=chunk)
+    same(collide, tocsin.collide_batch(knot, poses, knot, other))
+    assert 0 < collide.sum() < 40
+    ends = knot_poses(40, 3)
+    d = distributed.time_of_contact_batch(knot, poses, ends, knot, kind="screw", chunk_size=chunk)
+    same(d, tocsin.time_of_contact_batch(knot, poses, ends, knot, kind="screw"))
+    assert 0 < np.isfinite(d.time).sum() < 40
+
+
+def test_robot_edges_and_configurations(cluster):
+    robot = tocsin.Robot.from_urdf(str(PANDA))
+    scene = tocsin.Scene()
+    scene.add("plate", tocsin.Mesh.box([0.3, 0.3, 0.0005]), turn([1, 0, 0], 0.0, [0.45, 0, 0.3]))
+    rng = np.random.default_rng(5)
+    lo, hi = robot.joint_limits[:, 0], robot.joint_limits[:, 1]
+    q0 = rng.uniform(lo, hi, size=(50, robot.dof))
+    q1 = np.clip(q0 + rng.normal(scale=0.4, size=q0.shape), lo, hi)
+    for chunk in (1, 7, 65536):
+        free = distributed.paths_are_free(robot, q0, q1, scene, chunk_size=chunk)
+        same(free, robot.paths_are_free(q0, q1, scene))
+        same(distributed.check_configurations(robot, q0, scene, chunk_size=chunk), robot.check_configurations(q0, scene))
+    assert 0 < free.sum() < 50
+
+
+def test_empty_input(cluster):
+    knot = tocsin.Mesh.torus_knot(60, 6)
+    empty = np.zeros((0, 4, 4))
+    same(distributed.distance_batch(knot, empty, knot, np.eye(4)), tocsin.distance_batch(knot, empty, knot, np.eye(4)))
+    same(distributed.collide_batch(knot, empty, knot, empty), tocsin.collide_batch(knot, empty, knot, empty))
+    same(distributed.time_of_contact_batch(knot, empty, empty, knot), tocsin.time_of_contact_batch(knot, empty, empty, knot))
+
+
+def test_a_bad_chunk_is_reported_with_its_index(cluster):
+    knot = tocsin.Mesh.torus_knot(60, 6)
+    poses = knot_poses(20, 4)
+    poses[13, 0, 0] = 7.0  # not a rotation: a PoseError in chunk 13 // 5 = 2
+    with pytest.raises(tocsin.DistributedError) as err:
+        distributed.distance_batch(knot, poses, knot, np.eye(4), chunk_size=5)
+    assert err.value.chunk == 2
+    assert "rows 10:15" in str(err.value)
+    assert isinstance(err.value.__cause__, tocsin.PoseError)
+    with pytest.raises(tocsin.DistributedError):
+        distributed.distance_batch(knot, poses, knot, np.eye(4), chunk_size=0)
+
+
+def test_a_failing_worker_is_retried(cluster, tmp_path):
+    marker = tmp_path / "crashed"
+
+    def crash_once(poses):
+        # The first attempt of the chunk holding row 3 kills its worker process outright.
+        if len(poses) and poses[0][0, 3] == 3.0 and not marker.exists():
+            marker.write_text("x")
+            os._exit(1)
+        return poses[:, 0, 3] * 2.0
+
+    def fail_once(poses):
+        flag = tmp_path / f"raised{poses[0][0, 3]}"
+        if not flag.exists():
+            flag.write_text("x")
+            raise OSError("transient")
+        return poses[:, 0, 3] * 2.0
+
+    rows = np.repeat(np.eye(4)[None], 8, axis=0)
+    rows[:, 0, 3] = np.arange(8)
+    for fn in (crash_once, fail_once):
+        out = distributed._run(fn, {}, {"poses": rows}, {}, 8, 3, None, False, 3)
+        np.testing.assert_array_equal(out, np.arange(8) * 2.0)
+    assert marker.exists()
+
+    def always(poses):
+        raise OSError("broken disk")
+
+    with pytest.raises(tocsin.DistributedError) as err:
+        distributed._run(always, {}, {"poses": rows}, {}, 8, 4, None, False, 1)
+    assert err.value.chunk == 0
+
+
+def test_command_line(cluster, tmp_path):
+    knot = tocsin.Mesh.torus_knot(60, 6)
+    poses = knot_poses(30, 6)
+    queries = tmp_path / "q.npz"
+    np.savez(queries, query="distance", mesh1_vertices=knot.vertices, mesh1_triangles=knot.triangles,
+             mesh2_vertices=knot.vertices, mesh2_triangles=knot.triangles, poses1=poses, poses2=np.eye(4))
+    results = tmp_path / "r.npz"
+    out = subprocess.run([sys.executable, "-m", "tocsin.distributed", str(queries), str(results),
+                          "--address", cluster, "--chunk-size", "4"], capture_output=True, text=True, timeout=300)
+    assert out.returncode == 0, out.stderr
+    got = np.load(results)
+    np.testing.assert_array_equal(got["distance"], tocsin.distance_batch(knot, poses, knot, np.eye(4)).distance)
+    bad = subprocess.run([sys.executable, "-m", "tocsin.distributed", str(tmp_path / "missing.npz"), str(results)],
+                         capture_output=True, text=True, timeout=300)
+    assert bad.returncode == 2 and "tocsin.distributed:" in bad.stderr
+
+
+def test_the_core_package_never_imports_ray():
+    code = "import sys, tocsin; assert 'ray' not in sys.modules; print('ok')"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert out.stdout.strip() == "ok", out.stderr
