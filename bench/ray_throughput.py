@@ -1,0 +1,117 @@
+"""tocsin.distributed beside the local batch: throughput, per-task overhead, chunk size.
+
+1. Continuous collision on knot34k (2,000 screw motions of a knot flying past another):
+   the local `time_of_contact_batch` on 1 and 2 threads, and `tocsin.distributed` on a local
+   Ray cluster of 1 and 2 CPUs (one worker thread per CPU) at several chunk sizes. Each
+   configuration runs 3 times, interleaved; the median is reported. The first distributed call
+   of a cluster is timed apart (cold: workers start, unpickle and rebuild the meshes).
+2. Per-task overhead: 2,000 collide queries between two 12-triangle boxes (microseconds of
+   work each) in chunks of 1, 10, 100 rows.
+3. The cost a task would pay without the per-process cache: pickling and rebuilding knot34k.
+
+Run: `python bench/ray_throughput.py` (needs ray: `pip install "tocsin[ray]"`).
+"""
+
+import os
+import pickle
+import platform
+import subprocess
+import sys
+import time
+
+import numpy as np
+
+import tocsin
+
+
+def turn(axis, angle, t):
+    axis = np.asarray(axis, float) / np.linalg.norm(axis)
+    k = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
+    p = np.eye(4)
+    p[:3, :3] = np.eye(3) + np.sin(angle) * k + (1 - np.cos(angle)) * k @ k
+    p[:3, 3] = t
+    return p
+
+
+def motions(n, seed):
+    rng = np.random.default_rng(seed)
+    starts = np.stack([turn(rng.normal(size=3), rng.uniform(0, 3), [-14, rng.uniform(-3, 3), rng.uniform(-3, 3)]) for _ in range(n)])
+    ends = np.stack([turn(rng.normal(size=3), rng.uniform(0, 3), [14, rng.uniform(-3, 3), rng.uniform(-3, 3)]) for _ in range(n)])
+    return starts, ends
+
+
+def local(threads, fn):
+    """Runs fn in a child process with RAYON_NUM_THREADS=threads (the pool is per process)."""
+    code = (
+        "import time, pickle, sys; sys.path.insert(0, %r); import ray_throughput as b; import tocsin\n"
+        "knot = tocsin.Mesh.torus_knot(344, 50); s, e = b.motions(2000, 1)\n"
+        "tocsin.time_of_contact_batch(knot, s[:20], e[:20], knot, kind='screw')\n"
+        "t = time.perf_counter(); r = tocsin.time_of_contact_batch(knot, s, e, knot, kind='screw'); dt = time.perf_counter() - t\n"
+        "print(dt)" % os.path.dirname(os.path.abspath(__file__))
+    )
+    env = dict(os.environ, RAYON_NUM_THREADS=str(threads))
+    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
+    return float(out.stdout.strip())
+
+
+def main():
+    import ray
+    from tocsin import distributed
+
+    knot = tocsin.Mesh.torus_knot(344, 50)
+    starts, ends = motions(2000, 1)
+    reference = tocsin.time_of_contact_batch(knot, starts, ends, knot, kind="screw")
+    contacts = int(np.isfinite(reference.time).sum())
+    print(f"machine: {platform.processor() or platform.machine()}, {os.cpu_count()} CPUs; "
+          f"2,000 knot34k screw motions, {contacts} contacts")
+
+    rows = []
+    for cpus in (1, 2):
+        ray.init(num_cpus=cpus, include_dashboard=False, log_to_driver=False)
+        t = time.perf_counter()
+        cold = distributed.time_of_contact_batch(knot, starts, ends, knot, kind="screw", chunk_size=250)
+        rows.append((f"Ray, {cpus} CPU, chunk 250, first call (cold workers)", cpus, time.perf_counter() - t))
+        assert np.array_equal(cold.time, reference.time, equal_nan=True)
+        timings = {c: [] for c in (16, 64, 250, 1000, None)}
+        for _ in range(3):
+            for c in timings:
+                t = time.perf_counter()
+                r = distributed.time_of_contact_batch(knot, starts, ends, knot, kind="screw", chunk_size=c)
+                timings[c].append(time.perf_counter() - t)
+                assert np.array_equal(r.time, reference.time, equal_nan=True)
+        for c, ts in timings.items():
+            label = "default" if c is None else str(c)
+            rows.append((f"Ray, {cpus} CPU, chunk {label}", cpus, float(np.median(ts))))
+        if cpus == 2:
+            box = tocsin.Mesh.box([0.5, 0.5, 0.5])
+            poses = np.stack([turn([0, 0, 1], 0.0, [x, 0, 0]) for x in np.linspace(0.5, 2.5, 2000)])
+            for c in (1, 10, 100):
+                ts = []
+                for _ in range(3):
+                    t = time.perf_counter()
+                    distributed.collide_batch(box, poses, box, np.eye(4), chunk_size=c)
+                    ts.append(time.perf_counter() - t)
+                overhead = float(np.median(ts)) / (2000 / c)
+                rows.append((f"overhead: collide on boxes, chunk {c} ({2000 // c} tasks): per task", 2, overhead))
+        ray.shutdown()
+    for threads in (1, 2):
+        ts = [local(threads, None) for _ in range(3)]
+        rows.append((f"local time_of_contact_batch, {threads} thread(s)", threads, float(np.median(ts))))
+
+    t = time.perf_counter()
+    for _ in range(5):
+        pickle.loads(pickle.dumps(knot))
+    rebuild = (time.perf_counter() - t) / 5
+
+    print("| configuration | CPUs | seconds | queries per second |")
+    print("|---|---:|---:|---:|")
+    for name, cpus, s in rows:
+        if name.startswith("overhead"):
+            print(f"| {name} | {cpus} | {s * 1e3:.2f} ms | - |")
+        else:
+            print(f"| {name} | {cpus} | {s:.3f} | {2000 / s:,.0f} |")
+    print(f"pickle + unpickle (hierarchy rebuilt) of knot34k: {rebuild * 1e3:.1f} ms, {len(pickle.dumps(knot)) / 1e6:.2f} MB")
+
+
+if __name__ == "__main__":
+    main()
