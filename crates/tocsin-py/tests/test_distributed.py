@@ -154,3 +154,13 @@ def test_the_core_package_never_imports_ray():
     code = "import sys, tocsin; assert 'ray' not in sys.modules; print('ok')"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
     assert out.stdout.strip() == "ok", out.stderr
+
+
+def test_an_unreachable_cluster_is_a_clear_error():
+    code = (
+        "import tocsin, tocsin.distributed as d\n"
+        "try:\n    d.connect('127.0.0.1:1')\n"
+        "except tocsin.DistributedError as e:\n    print('refused:', e)\n"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert "refused: cannot reach the Ray cluster at 127.0.0.1:1" in out.stdout, out.stdout + out.stderr

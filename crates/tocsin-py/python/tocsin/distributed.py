@@ -37,7 +37,7 @@ file format is in :func:`main`).
 from __future__ import annotations
 
 import argparse
-import os
+import socket
 import sys
 import uuid
 from collections import OrderedDict
@@ -83,6 +83,13 @@ def connect(address: Optional[str] = None, **init_kwargs: Any) -> None:
     ray = _ray()
     if ray.is_initialized():
         return
+    if address and address != "auto" and not address.startswith(("ray://", "local")):
+        # Ray retries an unreachable head for minutes; a closed port answers at once.
+        host, _, port = address.rpartition(":")
+        try:
+            socket.create_connection((host or "127.0.0.1", int(port)), timeout=5).close()
+        except (OSError, ValueError) as e:
+            raise DistributedError(f"cannot reach the Ray cluster at {address}: {e}") from e
     try:
         ray.init(address=address, include_dashboard=False, **init_kwargs)
     except Exception as e:  # ConnectionError, RuntimeError, ValueError from ray.init
