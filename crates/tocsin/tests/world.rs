@@ -11,7 +11,7 @@ use rand::Rng;
 use std::sync::Arc;
 use tocsin::mesh as generate;
 use tocsin::world::broad::{all_pairs, sweep_and_prune, SweepAxis};
-use tocsin::world::swept::{swept_box, Aabb};
+use tocsin::world::swept::{swept_ball, swept_box, Aabb};
 use tocsin::{
     collide, colliding_pairs, earliest_contact, first_contacts, pairs_within, time_of_contact,
     within_distance, ContactOptions, Motion, Pose, TriMesh, Vec3, World, WorldContact, WorldError,
@@ -42,7 +42,7 @@ fn inside(b: &Aabb, p: Vec3, eps: f64) -> bool {
 }
 
 #[test]
-fn swept_boxes_hold_every_sampled_vertex() {
+fn swept_boxes_and_balls_hold_every_sampled_vertex() {
     let mut r = rng(71);
     let mesh = generate::torus_knot(24, 6).unwrap();
     let local = Aabb::of_points(mesh.vertices()).unwrap();
@@ -57,6 +57,13 @@ fn swept_boxes_hold_every_sampled_vertex() {
             (a, (a + r.random_range(0.0..0.5)).min(1.0))
         };
         let b = swept_box(&local, &m, t0, t1, 0.0);
+        let centre = local.center();
+        let radius = mesh
+            .vertices()
+            .iter()
+            .map(|v| (*v - centre).length())
+            .fold(0.0, f64::max);
+        let (c, r) = swept_ball(centre, radius, &m, t0, t1);
         let eps = 1e-12 * (1.0 + b.max.abs().max_element() + b.min.abs().max_element());
         for k in 0..=200 {
             let t = t0 + (t1 - t0) * k as f64 / 200.0;
@@ -64,6 +71,7 @@ fn swept_boxes_hold_every_sampled_vertex() {
             for &v in mesh.vertices() {
                 let p = pose.transform_point(v);
                 assert!(inside(&b, p, eps), "case {case}: vertex at t = {t} outside");
+                assert!((p - c).length() <= r + eps, "case {case}: vertex at t = {t} off the ball");
             }
         }
     }

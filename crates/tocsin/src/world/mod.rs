@@ -7,8 +7,9 @@
 //!    apart than its tolerance over the whole step;
 //! 2. the broad phase: sort and sweep over those boxes ([`broad`]), in parallel; pairs of two
 //!    static bodies are dropped;
-//! 3. each candidate pair's boxes over eight slices of the step: a pair whose boxes meet in no
-//!    slice is dropped, and the first slice where they meet is its earliest possible contact;
+//! 3. each candidate pair's boxes and balls over eight slices of the step: a pair whose boxes
+//!    and balls do not both meet in some slice is dropped, and the first slice where they do is
+//!    its earliest possible contact;
 //! 4. the narrow phase: [`crate::time_of_contact`] on each remaining pair, in parallel, with the
 //!    same options a caller would pass for that pair alone, so every pair's answer is the
 //!    single query's, bit for bit. [`earliest_contact`] runs the pairs by earliest possible
@@ -30,7 +31,7 @@ use rayon::prelude::*;
 use std::collections::HashMap;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Arc;
-use swept::{swept_box, Aabb};
+use swept::{swept_ball, swept_box, Aabb};
 
 /// Slices of the step a candidate pair's boxes are checked over (pipeline step 3).
 pub const SLICES: usize = 8;
@@ -83,11 +84,13 @@ struct Body {
 /// `i < j` meet.
 type SlicedPair = (usize, u32, u32);
 
-/// A shared mesh and its box in its own frame.
+/// A shared mesh, its box and a ball holding it, in its own frame.
 #[derive(Clone, Debug)]
 struct SharedMesh {
     mesh: Arc<TriMesh>,
     local: Aabb,
+    /// Centre (the box's) and radius of a ball holding every vertex.
+    ball: (Vec3, f64),
 }
 
 /// Bodies, each a shared mesh with a rigid motion over the step `t in [0, 1]`.
@@ -179,9 +182,18 @@ impl World {
                 min: Vec3::ZERO,
                 max: Vec3::ZERO,
             });
+            let c = local.center();
+            let r = mesh
+                .vertices()
+                .iter()
+                .map(|v| (*v - c).length())
+                .fold(0.0, f64::max);
+            // The rounding of the distances: a relative allowance.
+            let ball = (c, r * (1.0 + 1e-12) + 1e-12 * c.length());
             meshes.push(SharedMesh {
                 mesh: Arc::clone(mesh),
                 local,
+                ball,
             });
             meshes.len() - 1
         });
@@ -320,15 +332,21 @@ impl World {
             used[i as usize] = true;
             used[j as usize] = true;
         }
-        let slices: Vec<Option<[Aabb; SLICES]>> = (0..self.bodies.len())
+        type Slices = [(Aabb, (Vec3, f64)); SLICES];
+        let slices: Vec<Option<Slices>> = (0..self.bodies.len())
             .into_par_iter()
             .map(|i| {
                 used[i].then(|| {
                     let b = &self.bodies[i];
-                    let local = &self.meshes[b.mesh].local;
+                    let shared = &self.meshes[b.mesh];
                     std::array::from_fn(|s| {
                         let (t0, t1) = (s as f64 / SLICES as f64, (s + 1) as f64 / SLICES as f64);
-                        swept_box(local, &b.motion, t0, t1, margins[i])
+                        let (c, r) = swept_ball(shared.ball.0, shared.ball.1, &b.motion, t0, t1);
+                        let rounding = 1e-12 * c.length();
+                        (
+                            swept_box(&shared.local, &b.motion, t0, t1, margins[i]),
+                            (c, r + margins[i] + rounding),
+                        )
                     })
                 })
             })
@@ -338,7 +356,11 @@ impl World {
             .filter_map(|&(i, j)| {
                 let (a, b) = (slices[i as usize]?, slices[j as usize]?);
                 (0..SLICES)
-                    .find(|&s| a[s].overlaps(&b[s]))
+                    .find(|&s| {
+                        let ((box_a, ball_a), (box_b, ball_b)) = (a[s], b[s]);
+                        box_a.overlaps(&box_b)
+                            && (ball_a.0 - ball_b.0).length() <= ball_a.1 + ball_b.1
+                    })
                     .map(|s| (s, i, j))
             })
             .collect();

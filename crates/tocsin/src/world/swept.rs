@@ -138,3 +138,18 @@ pub fn swept_box(local: &Aabb, motion: &Motion, t0: f64, t1: f64, margin: f64) -
     // `pieces >= 1`, so the fold produced a box.
     out.unwrap_or(*local).inflated(margin)
 }
+
+/// A ball holding every point within `radius` of the body-frame point `center` moving by
+/// `motion` over `[t0, t1]`: centred where `center` is at the middle time, grown by the
+/// distance the centre can travel in half the interval ([`Motion::speed_bound`] at its
+/// distance from the rotation axis). Returns the world centre and the radius.
+pub fn swept_ball(center: Vec3, radius: f64, motion: &Motion, t0: f64, t1: f64) -> (Vec3, f64) {
+    let (t0, t1) = (
+        t0.clamp(0.0, 1.0),
+        t1.clamp(0.0, 1.0).max(t0.clamp(0.0, 1.0)),
+    );
+    let mid = 0.5 * (t0 + t1);
+    let c = motion.pose_at(mid).transform_point(center);
+    let speed = motion.speed_bound(motion.axis_distance(center));
+    (c, radius + 0.5 * speed * (t1 - t0))
+}
