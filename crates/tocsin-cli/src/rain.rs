@@ -15,9 +15,11 @@
 //!   separating is checked for the rest of the piece with half its present distance as the
 //!   tolerance, so that no pair is ever excused from the check (bodies never touch);
 //! - impulses at the contact point along the contact normal: the normal velocity after is
-//!   `max(-e vn, SEPARATION)` with restitution `e` = [`RESTITUTION`] and a small separation
-//!   speed [`SEPARATION`] (2 cm/s) that keeps resting bodies from contacting again within the
-//!   same instant; Coulomb friction with coefficient [`FRICTION`] clamps the tangential
+//!   `max(-e vn, SEPARATION, (TOLERANCE - gap) / RESTORE)` with restitution `e` =
+//!   [`RESTITUTION`], a small separation speed [`SEPARATION`] (2 cm/s) that keeps resting
+//!   bodies from contacting again within the same instant, and a correction that brings a
+//!   point closer than the tolerance back to it in [`RESTORE`] (2 ms), so that gaps do not
+//!   shrink towards rounding in resting contact; Coulomb friction with coefficient [`FRICTION`] clamps the tangential
 //!   impulse to `mu` times the normal one;
 //! - after [`MAX_EVENTS`] contacts in one step, the rest of that step is skipped (bodies keep
 //!   their velocities but do not move: never unsafe), and the step is counted as frozen.
@@ -30,11 +32,14 @@
 
 use crate::render::{Canvas, View};
 use serde_json::{json, Value};
+use std::collections::BTreeMap;
 use std::path::PathBuf;
 use std::sync::Arc;
 use std::time::Instant;
 use tocsin::motion::rotation_exp;
-use tocsin::world::{colliding_pairs, first_contacts, World, WorldContact, WorldOptions};
+use tocsin::world::{
+    colliding_pairs, first_contacts, first_contacts_among, World, WorldContact, WorldOptions,
+};
 use tocsin::{time_of_contact, ContactError, ContactOptions, Mat3, Motion, Pose, TriMesh, Vec3};
 
 /// Step length, seconds.
@@ -52,6 +57,9 @@ pub const SEPARATION: f64 = 0.02;
 /// A pair closer than this that no impulse can separate further stops the piece where it is
 /// (metres): below it, half the distance would be a tolerance near rounding.
 pub const MIN_GAP: f64 = 1e-9;
+/// A point closer than the tolerance separates at least fast enough to reach it again in this
+/// time, seconds (a position correction by velocity, as Baumgarte's).
+pub const RESTORE: f64 = 2e-3;
 /// Contacts resolved per step before the rest of it is skipped.
 pub const MAX_EVENTS: usize = 400;
 /// Largest turn of a body in one piece of a step, radians.
@@ -267,7 +275,8 @@ fn manifold(a: (Vec3, Pose), b: (Vec3, Pose), n: Vec3, witness: ContactPoint) ->
 
 /// Impulses on bodies `a` and `b` (`None`: a plate) at the points of a manifold, normal `n`
 /// from `a` to `b`, by sequential impulses with accumulated clamping (8 passes). A point within
-/// the tolerance gets a normal velocity of at least `max(-e vn, SEPARATION)`; a point farther
+/// the tolerance gets a normal velocity of at least `max(-e vn, SEPARATION, (TOLERANCE - gap) /
+/// RESTORE)`; a point farther
 /// away (a speculative contact) may approach, but only as fast as closes its gap to the
 /// tolerance in the `left` seconds of the step. Friction at each point is clamped to `mu` times
 /// its normal impulse. Returns whether impulses were applied (some point fell short of its
@@ -293,7 +302,9 @@ fn resolve(
         .iter()
         .map(|c| {
             if c.gap <= TOLERANCE {
-                (-RESTITUTION * relative(bodies, c.p).dot(n)).max(SEPARATION)
+                (-RESTITUTION * relative(bodies, c.p).dot(n))
+                    .max(SEPARATION)
+                    .max((TOLERANCE - c.gap) / RESTORE)
             } else {
                 -(c.gap - TOLERANCE) / left.max(1e-9)
             }
@@ -472,7 +483,15 @@ pub fn run(args: &RainArgs) -> Result<Value, String> {
     Ok(out)
 }
 
-/// One step of length [`DT`] (module docs).
+/// What is known about one pair over the current piece: the absolute time (seconds from the
+/// step's start) up to which it is free, and its contact there when it has one (`None`: free
+/// up to the piece's end, or undecided after the time).
+type Known = (f64, Option<WorldContact>);
+
+/// One step of length [`DT`] (module docs). The step is cut into pieces; within a piece every
+/// body keeps its motion's path (constant velocities), re-based to start at each event, so a
+/// pair neither of whose bodies got an impulse keeps its answer: only the pairs of the bodies
+/// that did, and the pairs at the event, are asked again ([`first_contacts_among`]).
 fn step_once(
     world: &mut World,
     bodies: &mut [Body],
@@ -481,26 +500,95 @@ fn step_once(
     options: &WorldOptions,
     tally: &mut Tally,
 ) -> Result<(), String> {
-    let mut left = DT;
+    let mut now = 0.0_f64;
     let mut events = 0;
-    while left > 0.0 {
-        let spin = bodies.iter().map(|b| b.w.length()).fold(0.0, f64::max);
-        let h = if spin * left > MAX_TURN {
-            MAX_TURN / spin
-        } else {
-            left
-        };
+    // `None`: plan a new piece and ask about every pair.
+    let mut changed: Option<Vec<usize>> = None;
+    let mut end = 0.0_f64;
+    let mut known: BTreeMap<(usize, usize), Known> = BTreeMap::new();
+    while now < DT {
+        if changed.is_some() {
+            let spin = bodies.iter().map(|b| b.w.length()).fold(0.0, f64::max);
+            if spin * (end - now) > MAX_TURN || end <= now {
+                changed = None;
+            }
+        }
+        if changed.is_none() {
+            let spin = bodies.iter().map(|b| b.w.length()).fold(0.0, f64::max);
+            let left = DT - now;
+            end = now
+                + if spin * left > MAX_TURN {
+                    MAX_TURN / spin
+                } else {
+                    left
+                };
+        }
+        let h = end - now;
         for (k, b) in bodies.iter().enumerate() {
-            let end = Pose {
+            let stop = Pose {
                 rotation: rotation_exp(b.w * h) * b.r,
                 translation: b.x + b.v * h,
             };
-            let m = Motion::interp(b.pose(), end, Vec3::ZERO).map_err(world_error)?;
+            let m = Motion::interp(b.pose(), stop, Vec3::ZERO).map_err(world_error)?;
             world.set_motion(first + k, m).map_err(world_error)?;
         }
-        let found = first_contacts(world, options).map_err(world_error)?;
-        // Pairs within the tolerance now: impulses on their manifolds first (the motions are
-        // then stale: the piece is planned again).
+        let found = match &changed {
+            None => {
+                known.clear();
+                first_contacts(world, options).map_err(world_error)?
+            }
+            Some(moved) => {
+                // The moved bodies, and every pair whose answer is due now.
+                let ask: Vec<usize> = moved.iter().map(|&k| first + k).collect();
+                let due: Vec<(usize, usize)> = known
+                    .iter()
+                    .filter(|(_, (t, _))| *t <= now)
+                    .map(|(p, _)| *p)
+                    .collect();
+                for p in &due {
+                    known.remove(p);
+                }
+                known.retain(|&(i, j), _| !ask.contains(&i) && !ask.contains(&j));
+                let mut found = first_contacts_among(world, options, &ask).map_err(world_error)?;
+                // Due pairs of two unmoved bodies: asked on their own.
+                for (i, j) in due {
+                    if ask.contains(&i) || ask.contains(&j) {
+                        continue;
+                    }
+                    let c = time_of_contact(
+                        world.mesh(i),
+                        world.motion(i),
+                        world.mesh(j),
+                        world.motion(j),
+                        &options.contact,
+                    );
+                    match c {
+                        Ok(Some(contact)) => found.contacts.push(WorldContact {
+                            body1: i,
+                            body2: j,
+                            contact,
+                        }),
+                        Ok(None) => {}
+                        Err(ContactError::IterationLimit { time_reached, .. }) => {
+                            found.undecided.push(tocsin::world::Undecided {
+                                body1: i,
+                                body2: j,
+                                time_reached,
+                            });
+                        }
+                        Err(e) => return Err(world_error(e)),
+                    }
+                }
+                found
+            }
+        };
+        for u in &found.undecided {
+            known.insert((u.body1, u.body2), (now + u.time_reached * h, None));
+        }
+        for c in found.contacts {
+            known.insert((c.body1, c.body2), (now + c.contact.time * h, Some(c)));
+        }
+        // Pairs within the tolerance now: impulses on their manifolds first.
         let boxes = |bodies: &[Body], i: usize| -> (Vec3, Pose) {
             if i < first {
                 (plates[i].half, plates[i].pose)
@@ -508,49 +596,44 @@ fn step_once(
                 (bodies[i - first].half, bodies[i - first].pose())
             }
         };
-        let now: Vec<&WorldContact> = found
-            .contacts
-            .iter()
-            .filter(|c| c.contact.time == 0.0)
+        let at_now: Vec<WorldContact> = known
+            .values()
+            .filter(|(t, c)| *t <= now && c.is_some())
+            .filter_map(|(_, c)| *c)
             .collect();
-        let mut pushed = false;
-        for c in &now {
+        let mut moved = Vec::new();
+        for c in &at_now {
             let (a, b) = (boxes(bodies, c.body1), boxes(bodies, c.body2));
             let points = manifold(a, b, c.contact.normal, witness(c));
             let pair = (c.body1.checked_sub(first), c.body2.checked_sub(first));
-            pushed |= resolve(bodies, pair, &points, c.contact.normal, left);
+            if resolve(bodies, pair, &points, c.contact.normal, DT - now) {
+                moved.extend(pair.0.into_iter().chain(pair.1));
+            }
         }
-        if pushed {
+        if !moved.is_empty() {
+            moved.sort_unstable();
+            moved.dedup();
             tally.events += 1;
             events += 1;
             if events >= MAX_EVENTS {
                 tally.frozen_steps += 1;
                 break;
             }
+            changed = Some(moved);
             continue;
         }
-        // Each candidate: a contact to resolve, or (`None`) a time up to which a pair is only
-        // known free (its query reached the iteration cap): the piece stops there, no impulse.
-        let mut candidates: Vec<(f64, Option<WorldContact>)> = found
-            .undecided
-            .iter()
-            .map(|u| (u.time_reached, None))
-            .collect();
-        for c in found.contacts {
-            if c.contact.time > 0.0 {
-                candidates.push((c.contact.time, Some(c)));
-                continue;
-            }
-            // Within the tolerance and separating everywhere: checked with half its distance.
+        // Within the tolerance and separating everywhere: checked with half its distance.
+        for c in at_now {
+            let key = (c.body1, c.body2);
             if c.contact.distance < MIN_GAP {
-                candidates.push((0.0, None));
+                known.insert(key, (now, None));
                 continue;
             }
             let tight = ContactOptions {
                 tolerance: Some(0.5 * c.contact.distance),
                 ..options.contact
             };
-            let (i, j) = (c.body1, c.body2);
+            let (i, j) = key;
             let again = time_of_contact(
                 world.mesh(i),
                 world.motion(i),
@@ -560,19 +643,29 @@ fn step_once(
             );
             match again {
                 Ok(Some(contact)) => {
-                    candidates.push((contact.time, Some(WorldContact { contact, ..c })))
+                    known.insert(
+                        key,
+                        (now + contact.time * h, Some(WorldContact { contact, ..c })),
+                    );
                 }
-                Ok(None) => {}
+                Ok(None) => {
+                    known.remove(&key);
+                }
                 Err(ContactError::IterationLimit { time_reached, .. }) => {
-                    candidates.push((time_reached, None));
+                    known.insert(key, (now + time_reached * h, None));
                 }
                 Err(e) => return Err(world_error(e)),
             }
         }
-        let t = candidates.iter().map(|c| c.0).fold(1.0, f64::min);
+        let next = known.values().map(|(t, _)| *t).fold(end, f64::min);
         // Move everyone to the event (or to the end of the piece), along the checked motions.
+        let param = if h > 0.0 {
+            ((next - now) / h).clamp(0.0, 1.0)
+        } else {
+            1.0
+        };
         for (k, b) in bodies.iter_mut().enumerate() {
-            let p = world.motion(first + k).pose_at(t);
+            let p = world.motion(first + k).pose_at(param);
             let before = b.x;
             b.x = p.translation;
             b.r = p.rotation;
@@ -583,17 +676,19 @@ fn step_once(
                 }
             }
         }
-        left = if t >= 1.0 { left - h } else { left - t * h }.max(0.0);
-        if candidates.iter().any(|c| c.0 <= t) {
-            tally.events += 1;
-            events += 1;
-            if events >= MAX_EVENTS {
-                tally.frozen_steps += 1;
-                break;
-            }
+        if next >= end {
+            now = end;
+            changed = None;
+            continue;
         }
-        // The contacts at the event get their impulses at the top of the next piece (they
-        // are then at time 0).
+        now = next;
+        changed = Some(Vec::new());
+        tally.events += 1;
+        events += 1;
+        if events >= MAX_EVENTS {
+            tally.frozen_steps += 1;
+            break;
+        }
     }
     // The world's motions end where the bodies are, for the checks and the pictures.
     for (k, b) in bodies.iter().enumerate() {

@@ -41,8 +41,8 @@ pub use query::penetration::{
 };
 pub use robot::{Robot, RobotError};
 pub use world::{
-    colliding_pairs, earliest_contact, first_contacts, pairs_within, FirstContacts, Undecided,
-    World, WorldContact, WorldError, WorldOptions,
+    colliding_pairs, earliest_contact, first_contacts, first_contacts_among, pairs_within,
+    FirstContacts, Undecided, World, WorldContact, WorldError, WorldOptions,
 };
 
 /// The README's Rust quickstart, compiled and run as a doctest.

@@ -13,9 +13,9 @@ use tocsin::mesh as generate;
 use tocsin::world::broad::{all_pairs, sweep_and_prune, SweepAxis};
 use tocsin::world::swept::{swept_ball, swept_box, Aabb};
 use tocsin::{
-    collide, colliding_pairs, earliest_contact, first_contacts, pairs_within, time_of_contact,
-    within_distance, ContactOptions, Motion, Pose, TriMesh, Vec3, World, WorldContact, WorldError,
-    WorldOptions,
+    collide, colliding_pairs, earliest_contact, first_contacts, first_contacts_among, pairs_within,
+    time_of_contact, within_distance, ContactOptions, Motion, Pose, TriMesh, Vec3, World,
+    WorldContact, WorldError, WorldOptions,
 };
 
 fn random_motion(rng: &mut impl Rng, spread: f64, reach: f64, turn: f64) -> Motion {
@@ -71,7 +71,10 @@ fn swept_boxes_and_balls_hold_every_sampled_vertex() {
             for &v in mesh.vertices() {
                 let p = pose.transform_point(v);
                 assert!(inside(&b, p, eps), "case {case}: vertex at t = {t} outside");
-                assert!((p - c).length() <= r + eps, "case {case}: vertex at t = {t} off the ball");
+                assert!(
+                    (p - c).length() <= r + eps,
+                    "case {case}: vertex at t = {t} off the ball"
+                );
             }
         }
     }
@@ -324,6 +327,14 @@ fn first_contacts_match_every_pair_through_the_single_query() {
             let got = first_contacts(&world, &options).unwrap();
             assert_eq!(got.contacts, expected, "case {case}, n = {n}");
             assert!(got.narrow <= got.candidates);
+            let some: Vec<usize> = (0..n).filter(|k| k % 3 == 1).collect();
+            let among = first_contacts_among(&world, &options, &some).unwrap();
+            let expected_among: Vec<WorldContact> = expected
+                .iter()
+                .filter(|c| some.contains(&c.body1) || some.contains(&c.body2))
+                .copied()
+                .collect();
+            assert_eq!(among.contacts, expected_among, "case {case}, n = {n}");
             let earliest = earliest_contact(&world, &options).unwrap();
             assert_eq!(earliest.as_ref(), expected.first(), "case {case}");
             total_contacts += expected.len();
@@ -428,6 +439,10 @@ fn bad_input_gives_errors() {
     assert!(matches!(
         first_contacts(&world, &bad),
         Err(WorldError::Options(_))
+    ));
+    assert!(matches!(
+        first_contacts_among(&world, &WorldOptions::default(), &[0, 9]),
+        Err(WorldError::UnknownBody { index: 9, len: 1 })
     ));
     assert!(matches!(
         world.set_motion(3, Motion::stationary(Pose::IDENTITY)),

@@ -324,8 +324,12 @@ impl World {
     fn sliced_candidates(
         &self,
         options: &WorldOptions,
+        among: Option<&[bool]>,
     ) -> Result<(usize, Vec<SlicedPair>), WorldError> {
-        let pairs = self.candidate_pairs(options)?;
+        let mut pairs = self.candidate_pairs(options)?;
+        if let Some(mask) = among {
+            pairs.retain(|&(i, j)| mask[i as usize] || mask[j as usize]);
+        }
         let margins = self.margins(&options.contact);
         let mut used = vec![false; self.bodies.len()];
         for &(i, j) in &pairs {
@@ -452,7 +456,37 @@ fn check_options(options: &ContactOptions) -> Result<(), OptionsError> {
 /// # Errors
 /// [`WorldError::Options`] for bad options.
 pub fn first_contacts(world: &World, options: &WorldOptions) -> Result<FirstContacts, WorldError> {
-    let (candidates, sliced) = world.sliced_candidates(options)?;
+    contacts_of(world, options, None)
+}
+
+/// [`first_contacts`] restricted to the pairs with at least one body in `bodies`: what a
+/// simulation asks again after changing the motions of a few bodies (the other pairs' answers
+/// still hold). Each pair's answer is the single query's, as in [`first_contacts`].
+///
+/// # Errors
+/// [`WorldError::Options`] for bad options, [`WorldError::UnknownBody`] for an index out of
+/// range.
+pub fn first_contacts_among(
+    world: &World,
+    options: &WorldOptions,
+    bodies: &[usize],
+) -> Result<FirstContacts, WorldError> {
+    let len = world.len();
+    let mut mask = vec![false; len];
+    for &index in bodies {
+        *mask
+            .get_mut(index)
+            .ok_or(WorldError::UnknownBody { index, len })? = true;
+    }
+    contacts_of(world, options, Some(&mask))
+}
+
+fn contacts_of(
+    world: &World,
+    options: &WorldOptions,
+    among: Option<&[bool]>,
+) -> Result<FirstContacts, WorldError> {
+    let (candidates, sliced) = world.sliced_candidates(options, among)?;
     let found: Vec<Result<Option<WorldContact>, WorldError>> = sliced
         .par_iter()
         .map(|&(_, i, j)| world.pair_contact(i as usize, j as usize, &options.contact))
@@ -504,7 +538,7 @@ pub fn earliest_contact(
     world: &World,
     options: &WorldOptions,
 ) -> Result<Option<WorldContact>, WorldError> {
-    let (_, mut sliced) = world.sliced_candidates(options)?;
+    let (_, mut sliced) = world.sliced_candidates(options, None)?;
     sliced.sort_unstable();
     // Times are >= 0, so their bit patterns order as the numbers do.
     let best = AtomicU64::new(f64::INFINITY.to_bits());
