@@ -72,6 +72,13 @@ def test_first_contacts_match_every_pair():
         assert c.time == pytest.approx(t, abs=1e-9)
         assert c.contact.time == c.time
         assert c.contact.distance <= 1e-3 * max(m.bounding_radius for m in meshes) * (1 + 1e-12)
+    some = [c.body2 for c in got[:3]]
+    among = world.first_contacts(bodies=some)
+    assert [(c.body1, c.body2, c.time) for c in among] == [
+        (c.body1, c.body2, c.time) for c in got if c.body1 in some or c.body2 in some
+    ]
+    with pytest.raises(tocsin.WorldError):
+        world.first_contacts(bodies=[len(world)])
     first = tocsin.earliest_contact(world)
     assert (first.body1, first.body2) == (got[0].body1, got[0].body2)
     assert first.time == got[0].time

@@ -587,9 +587,13 @@ class World:
     def candidate_pairs(self, tolerance: Optional[float] = None) -> npt.NDArray[np.int64]:
         """The broad phase over the step: pairs whose swept boxes meet, shape (K, 2)."""
     def first_contacts(
-        self, tolerance: Optional[float] = None, max_iterations: Optional[int] = None
+        self,
+        tolerance: Optional[float] = None,
+        max_iterations: Optional[int] = None,
+        bodies: Optional[Sequence[int]] = None,
     ) -> list[WorldContact]:
-        """Every pair that comes within its tolerance during the step, sorted by time."""
+        """Every pair that comes within its tolerance during the step, sorted by time; with
+        bodies, only the pairs with at least one of them."""
     def earliest_contact(
         self, tolerance: Optional[float] = None, max_iterations: Optional[int] = None
     ) -> Optional[WorldContact]:
