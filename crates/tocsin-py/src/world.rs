@@ -213,19 +213,24 @@ impl World {
 
     /// Every pair of bodies that comes within its tolerance during the step, each with the
     /// answer time_of_contact gives for the pair alone (body1 < body2 is mesh 1), sorted by
-    /// time then body indices. Raises IterationLimitError (with the bodies in a note) when a
-    /// pair's max_iterations runs out.
-    #[pyo3(signature = (tolerance=None, max_iterations=None))]
+    /// time then body indices. With `bodies`, only the pairs with at least one of them (what a
+    /// simulation asks again after changing a few bodies' motions). Raises IterationLimitError
+    /// (with the bodies in a note) when a pair's max_iterations runs out.
+    #[pyo3(signature = (tolerance=None, max_iterations=None, bodies=None))]
     fn first_contacts(
         &self,
         py: Python<'_>,
         tolerance: Option<f64>,
         max_iterations: Option<&Bound<'_, PyAny>>,
+        bodies: Option<Vec<usize>>,
     ) -> PyResult<Vec<WorldContact>> {
         let w = self.snapshot();
         let opts = options(py, tolerance, max_iterations)?;
-        let r =
-            pool::run(py, || core::first_contacts(&w, &opts))?.map_err(|e| world_error(py, e))?;
+        let r = pool::run(py, || match &bodies {
+            Some(b) => core::first_contacts_among(&w, &opts, b),
+            None => core::first_contacts(&w, &opts),
+        })?
+        .map_err(|e| world_error(py, e))?;
         r.contacts
             .iter()
             .map(|c| WorldContact::from_core(py, c))
