@@ -24,8 +24,8 @@
 //! [`SweepAxis::Principal`] uses the principal axes of the box centres (gSaP's choice),
 //! [`SweepAxis::LargestVariance`] the coordinate axes, the one of largest variance first: the
 //! default, since on coordinate axes the projections are the boxes themselves (no rotated
-//! box grows, and the overlap test needs no second read of the boxes), which measured 1.5 to
-//! 2.3 times faster on random boxes (docs/BENCHMARKS.md). The pairs come back sorted, so the
+//! box grows, and the overlap test needs no second read of the boxes), which measured 1.4 to
+//! 2.4 times faster on random boxes (docs/BENCHMARKS.md). The pairs come back sorted, so the
 //! result does not depend on the thread count or the axes.
 
 use super::swept::Aabb;
