@@ -16,7 +16,7 @@ demo:
 		--motion1 "screw:-14,1,0.5:14,-0.5,0,0,0.3,1.2" --out target/demo-contact.png > /dev/null
 	@echo "picture of the first contact (screw motion, knot34k): target/demo-contact.png"
 	$(CARGO) run --release -q -p tocsin-cli -- rain --bodies 16 --steps 90 --frames target/rain
-	@echo "16 bodies thrown through 1 mm plates, none tunnelled (checked every step): target/rain/strip.png"
+	@echo "16 bodies thrown through 1 mm plates (tunnelled_bodies and intersecting_pairs above, checked every step): target/rain/strip.png"
 
 # Build tools live in .venv; the wheel is tested in .venv (numpy 2.x), and a fresh .venv-numpy1
 # (numpy 1.26) installs the package with `pip install .` from the clone, as a user would. Both
