@@ -9,6 +9,7 @@ use crate::mesh::Mesh;
 use crate::pool;
 use numpy::{PyArray1, PyArray3, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::prelude::*;
+use std::collections::HashMap;
 use std::path::PathBuf;
 use std::sync::{Arc, Mutex, RwLock};
 use tocsin::robot::query as rq;
@@ -48,6 +49,9 @@ pub(crate) struct Robot {
     /// once), absolute mesh folders, then every successful edit in order. The lock is held
     /// across each edit, so the order is the order the edits were applied in.
     recipe: Mutex<Vec<Py<PyAny>>>,
+    /// The URDF's meshes a pickle brought (filename: (vertices, triangles)), pickled again as
+    /// they are: the files may not exist here.
+    carried: Option<Py<PyAny>>,
 }
 
 /// A path made absolute (a Ray worker runs in another folder), unchanged when that fails.
@@ -82,9 +86,15 @@ impl Robot {
     }
 }
 
-/// Unpickles a Robot (`Robot.__reduce__`): replays its recipe.
+/// Unpickles a Robot (`Robot.__reduce__`): replays its recipe, the URDF's meshes taken from
+/// `meshes` (filename as written in the URDF: (vertices, triangles)) rather than from files.
 #[pyfunction]
-pub(crate) fn _robot_from_recipe(py: Python<'_>, recipe: Vec<Bound<'_, PyAny>>) -> PyResult<Robot> {
+#[pyo3(signature = (recipe, meshes=None))]
+pub(crate) fn _robot_from_recipe(
+    py: Python<'_>,
+    recipe: Vec<Bound<'_, PyAny>>,
+    meshes: Option<Bound<'_, PyAny>>,
+) -> PyResult<Robot> {
     let bad = || error(py, "RobotError", "a pickled robot's recipe is malformed");
     let first = recipe.first().ok_or_else(bad)?;
     let (tag, xml, base, dirs): (String, String, Option<PathBuf>, Vec<PathBuf>) =
@@ -92,7 +102,24 @@ pub(crate) fn _robot_from_recipe(py: Python<'_>, recipe: Vec<Bound<'_, PyAny>>) 
     if tag != "urdf" {
         return Err(bad());
     }
-    let robot = Robot::from_urdf_string(py, &xml, base, dirs)?;
+    let given: HashMap<String, (Vec<[f64; 3]>, Vec<[u32; 3]>)> = match &meshes {
+        Some(m) => m.extract().map_err(|_| bad())?,
+        None => HashMap::new(),
+    };
+    let provided: HashMap<String, tocsin::robot::urdf::RawMesh> = given
+        .into_iter()
+        .map(|(k, (v, t))| (k, (v.into_iter().map(Vec3::from_array).collect(), t)))
+        .collect();
+    let core = py
+        .detach(|| {
+            tocsin::Robot::from_urdf_str_with_meshes(&xml, base.as_deref(), &dirs, &provided)
+        })
+        .map_err(|e| robot_error(py, e))?;
+    let robot = Robot {
+        inner: RwLock::new(Arc::new(core)),
+        recipe: Mutex::new(vec![first.clone().unbind()]),
+        carried: meshes.map(Bound::unbind),
+    };
     for op in &recipe[1..] {
         let tag: String = op.get_item(0)?.extract()?;
         match tag.as_str() {
@@ -226,6 +253,7 @@ impl Robot {
         Ok(Self {
             inner: RwLock::new(Arc::new(robot)),
             recipe: Mutex::new(recipe),
+            carried: None,
         })
     }
 
@@ -250,6 +278,7 @@ impl Robot {
         Ok(Self {
             inner: RwLock::new(Arc::new(robot)),
             recipe: Mutex::new(vec![first]),
+            carried: None,
         })
     }
 
@@ -324,10 +353,9 @@ impl Robot {
         self.recorded(py, op, |r| r.detach(name))
     }
 
-    /// Pickling: the recipe (URDF and SRDF texts, absolute mesh folders, edits in order),
-    /// replayed on unpickling. The URDF's collision meshes are read again from their files,
-    /// which must be at the same absolute paths where the robot is unpickled (on every node of
-    /// a cluster); attached meshes travel with the pickle.
+    /// Pickling: the recipe (URDF and SRDF texts, absolute mesh folders, edits in order) and
+    /// the URDF's collision mesh files as read at pickling time, replayed on unpickling: the
+    /// copy needs no file (a cluster's nodes need not share a disk).
     fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         let f = py.import("tocsin._core")?.getattr("_robot_from_recipe")?;
         let ops: Vec<Py<PyAny>> = self
@@ -337,7 +365,45 @@ impl Robot {
             .iter()
             .map(|o| o.clone_ref(py))
             .collect();
-        Ok((f, (ops,)).into_pyobject(py)?.into_any())
+        if let Some(carried) = &self.carried {
+            return Ok((f, (ops, carried.clone_ref(py)))
+                .into_pyobject(py)?
+                .into_any());
+        }
+        // The URDF's mesh files travel with the pickle, as read now.
+        let first = ops.first().map(|o| o.bind(py).clone());
+        let meshes = pyo3::types::PyDict::new(py);
+        if let Some(first) = first {
+            let (_, xml, base, dirs): (String, String, Option<PathBuf>, Vec<PathBuf>) =
+                first.extract()?;
+            let files = tocsin::Robot::urdf_mesh_files(&xml, base.as_deref(), &dirs)
+                .map_err(|e| robot_error(py, e))?;
+            for (name, path) in files {
+                let (v, t) = tocsin::TriMesh::load_raw(&path).map_err(|e| {
+                    robot_error(
+                        py,
+                        RobotError::Mesh {
+                            link: name.clone(),
+                            source: e,
+                        },
+                    )
+                })?;
+                let n = v.len();
+                let verts = numpy::PyArray1::from_vec(
+                    py,
+                    v.iter().flat_map(|p| p.to_array()).collect::<Vec<f64>>(),
+                )
+                .reshape([n, 3])?;
+                let m = t.len();
+                let tris = numpy::PyArray1::from_vec(
+                    py,
+                    t.iter().flatten().copied().collect::<Vec<u32>>(),
+                )
+                .reshape([m, 3])?;
+                meshes.set_item(name, (verts, tris))?;
+            }
+        }
+        Ok((f, (ops, meshes)).into_pyobject(py)?.into_any())
     }
 
     /// The robot's name (from the URDF).

@@ -4,6 +4,7 @@ import pathlib
 import pickle
 
 import numpy as np
+import pytest
 
 import tocsin
 
@@ -90,3 +91,30 @@ def test_scenes_and_robots_round_trip_exactly():
     assert sum(c is not None for c in a) > 3
     np.testing.assert_array_equal(robot.check_configurations(q0, scene), r2.check_configurations(q0, s2))
     np.testing.assert_array_equal(robot.link_poses(q0[0]), r2.link_poses(q0[0]))
+
+
+def test_a_pickled_robot_needs_no_mesh_file(tmp_path):
+    import shutil
+
+    copy = tmp_path / "panda"
+    shutil.copytree(PANDA.parent, copy)
+    robot = tocsin.Robot.from_urdf(str(copy / PANDA.name))
+    robot.allow_collision("panda_link0", "panda_link2")
+    data = pickle.dumps(robot)
+    shutil.rmtree(copy)
+    with pytest.raises(tocsin.RobotFileError):
+        tocsin.Robot.from_urdf(str(copy / PANDA.name))
+    r2 = pickle.loads(data)
+    assert r2.object_names == robot.object_names and r2.self_pairs == robot.self_pairs
+    rng = np.random.default_rng(9)
+    lo, hi = robot.joint_limits[:, 0], robot.joint_limits[:, 1]
+    q = rng.uniform(lo, hi, size=(40, robot.dof))
+    np.testing.assert_array_equal(robot.check_configurations(q), r2.check_configurations(q))
+    for k in range(5):
+        a, b = robot.time_of_contact(q[k], q[k + 1]), r2.time_of_contact(q[k], q[k + 1])
+        assert (a is None) == (b is None)
+        if a is not None:
+            assert (a.time, a.object1, a.object2, a.distance) == (b.time, b.object1, b.object2, b.distance)
+    # The copy pickles again, meshes included.
+    r3 = pickle.loads(pickle.dumps(r2))
+    np.testing.assert_array_equal(r3.check_configurations(q), r2.check_configurations(q))

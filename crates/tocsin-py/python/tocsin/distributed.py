@@ -20,9 +20,8 @@ Starting a cluster (shell)::
 
 then ``tocsin.distributed.connect("auto")`` (or ``address="auto"`` on any call) in a script
 running on one of its nodes. Without an address, a call joins the Ray runtime already
-initialized in this process, or starts a local one. A robot pickles as its recipe: its URDF's
-collision meshes are read again on the workers, so they must be at the same absolute paths on
-every node.
+initialized in this process, or starts a local one. A robot pickles as its recipe (URDF and
+SRDF texts, edits) with its collision meshes' contents, so the nodes need no copy of its files.
 
 Failures: a chunk whose worker died, or whose task raised anything but an error of tocsin's (an
 out-of-memory, a lost object), is run again, up to ``max_retries`` times (Ray's own retries);

@@ -81,9 +81,10 @@ impl TriMesh {
     }
 
     /// The vertices and triangles of an OBJ, STL or PLY file, without building a mesh.
-    pub(crate) fn load_raw(
-        path: &std::path::Path,
-    ) -> Result<(Vec<Vec3>, Vec<[u32; 3]>), MeshError> {
+    ///
+    /// # Errors
+    /// As [`TriMesh::load`].
+    pub fn load_raw(path: &std::path::Path) -> Result<(Vec<Vec3>, Vec<[u32; 3]>), MeshError> {
         load::load_file(path)
     }
 

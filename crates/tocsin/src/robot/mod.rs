@@ -30,7 +30,7 @@ pub(crate) mod chain;
 pub mod primitives;
 pub mod query;
 mod srdf;
-mod urdf;
+pub mod urdf;
 
 use std::collections::HashSet;
 use std::path::PathBuf;
@@ -216,6 +216,34 @@ impl Robot {
         package_dirs: &[PathBuf],
     ) -> Result<Self, RobotError> {
         urdf::from_str(xml, base_dir, package_dirs, PathBuf::from("<string>"))
+    }
+
+    /// As [`Robot::from_urdf_str`], with every mesh whose URDF filename (as written in the
+    /// URDF) is a key of `meshes` taken from it instead of from a file: a robot rebuilt where
+    /// its mesh files are not (the Python binding's pickles carry them).
+    ///
+    /// # Errors
+    /// As [`Robot::from_urdf_file`].
+    pub fn from_urdf_str_with_meshes(
+        xml: &str,
+        base_dir: Option<&std::path::Path>,
+        package_dirs: &[PathBuf],
+        meshes: &std::collections::HashMap<String, urdf::RawMesh>,
+    ) -> Result<Self, RobotError> {
+        urdf::from_str_with(xml, base_dir, package_dirs, meshes)
+    }
+
+    /// Every collision mesh filename the URDF text names (each once, in order of the links)
+    /// and the file it resolves to, as [`Robot::from_urdf_str`] resolves it.
+    ///
+    /// # Errors
+    /// [`RobotError::Parse`] for bad XML, [`RobotError::MissingMesh`] for a file not found.
+    pub fn urdf_mesh_files(
+        xml: &str,
+        base_dir: Option<&std::path::Path>,
+        package_dirs: &[PathBuf],
+    ) -> Result<Vec<(String, PathBuf)>, RobotError> {
+        urdf::mesh_files(xml, base_dir, package_dirs)
     }
 
     /// Disables the SRDF's `<disable_collisions link1=".." link2=".."/>` pairs. Pairs naming a

@@ -35,7 +35,52 @@ pub(super) fn from_str(
         path: origin,
         message: e.to_string(),
     })?;
-    build(&model, base_dir, package_dirs)
+    build(&model, base_dir, package_dirs, None)
+}
+
+/// The vertices and triangles of a mesh file, before any URDF scale.
+pub type RawMesh = (Vec<Vec3>, Vec<[u32; 3]>);
+
+/// As [`from_str`], with the meshes whose URDF filename is a key of `provided` taken from it
+/// instead of from files.
+pub(super) fn from_str_with(
+    xml: &str,
+    base_dir: Option<&Path>,
+    package_dirs: &[PathBuf],
+    provided: &HashMap<String, RawMesh>,
+) -> Result<Robot, RobotError> {
+    let model = urdf_rs::read_from_string(xml).map_err(|e| RobotError::Parse {
+        path: PathBuf::from("<string>"),
+        message: e.to_string(),
+    })?;
+    build(&model, base_dir, package_dirs, Some(provided))
+}
+
+/// Every collision mesh filename the URDF text names (each once, in order) and the file it
+/// resolves to.
+pub(super) fn mesh_files(
+    xml: &str,
+    base_dir: Option<&Path>,
+    package_dirs: &[PathBuf],
+) -> Result<Vec<(String, PathBuf)>, RobotError> {
+    let model = urdf_rs::read_from_string(xml).map_err(|e| RobotError::Parse {
+        path: PathBuf::from("<string>"),
+        message: e.to_string(),
+    })?;
+    let mut out: Vec<(String, PathBuf)> = Vec::new();
+    for link in &model.links {
+        for c in &link.collision {
+            if let urdf_rs::Geometry::Mesh { filename, .. } = &c.geometry {
+                if !out.iter().any(|(f, _)| f == filename) {
+                    out.push((
+                        filename.clone(),
+                        resolve(&link.name, filename, base_dir, package_dirs)?,
+                    ));
+                }
+            }
+        }
+    }
+    Ok(out)
 }
 
 fn pose_of(p: &urdf_rs::Pose) -> Result<Pose, RobotError> {
@@ -59,6 +104,7 @@ fn build(
     model: &urdf_rs::Robot,
     base_dir: Option<&Path>,
     package_dirs: &[PathBuf],
+    provided: Option<&HashMap<String, RawMesh>>,
 ) -> Result<Robot, RobotError> {
     let mut index: HashMap<&str, usize> = HashMap::new();
     for (i, l) in model.links.iter().enumerate() {
@@ -269,7 +315,7 @@ fn build(
         let (mut vertices, mut triangles) = (Vec::new(), Vec::new());
         for c in &link.collision {
             let to_body = offset.mul(&pose_of(&c.origin)?);
-            let (v, t) = geometry(&link.name, &c.geometry, base_dir, package_dirs)?;
+            let (v, t) = geometry(&link.name, &c.geometry, base_dir, package_dirs, provided)?;
             let base = u32::try_from(vertices.len()).map_err(|_| {
                 RobotError::Model(format!("link {:?}: too many vertices", link.name))
             })?;
@@ -318,6 +364,7 @@ fn geometry(
     g: &urdf_rs::Geometry,
     base_dir: Option<&Path>,
     package_dirs: &[PathBuf],
+    provided: Option<&HashMap<String, RawMesh>>,
 ) -> Result<Soup, RobotError> {
     use urdf_rs::Geometry as G;
     let positive = |name: &str, v: f64| {
@@ -347,21 +394,11 @@ fn geometry(
             capsule_soup(positive("capsule radius", *radius)?, length.max(0.0))
         }
         G::Mesh { filename, scale } => {
-            let path = resolve(link, filename, base_dir, package_dirs)?;
-            if path
-                .extension()
-                .and_then(|e| e.to_str())
-                .is_some_and(|e| e.eq_ignore_ascii_case("dae"))
-            {
-                return Err(RobotError::Model(format!(
-                    "link {link:?}: {} is COLLADA (.dae), which is not read: convert it to OBJ or STL",
-                    path.display()
-                )));
-            }
-            let (mut v, t) = TriMesh::load_raw(&path).map_err(|source| RobotError::Mesh {
-                link: link.to_string(),
-                source,
-            })?;
+            let given = provided.and_then(|m| m.get(filename.as_str()));
+            let (mut v, t) = match given {
+                Some(raw) => raw.clone(),
+                None => read_mesh(link, filename, base_dir, package_dirs)?,
+            };
             if let Some(s) = scale {
                 let s = Vec3::from_array(s.0);
                 if !s.is_finite() {
@@ -374,6 +411,30 @@ fn geometry(
             }
             (v, t)
         }
+    })
+}
+
+/// A URDF mesh file's vertices and triangles (COLLADA refused).
+fn read_mesh(
+    link: &str,
+    filename: &str,
+    base_dir: Option<&Path>,
+    package_dirs: &[PathBuf],
+) -> Result<RawMesh, RobotError> {
+    let path = resolve(link, filename, base_dir, package_dirs)?;
+    if path
+        .extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("dae"))
+    {
+        return Err(RobotError::Model(format!(
+            "link {link:?}: {} is COLLADA (.dae), which is not read: convert it to OBJ or STL",
+            path.display()
+        )));
+    }
+    TriMesh::load_raw(&path).map_err(|source| RobotError::Mesh {
+        link: link.to_string(),
+        source,
     })
 }
 
