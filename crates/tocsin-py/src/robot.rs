@@ -86,6 +86,9 @@ impl Robot {
     }
 }
 
+/// A mesh file's contents as a robot's pickle carries them: vertices and triangles.
+type PickledMesh = (Vec<[f64; 3]>, Vec<[u32; 3]>);
+
 /// Unpickles a Robot (`Robot.__reduce__`): replays its recipe, the URDF's meshes taken from
 /// `meshes` (filename as written in the URDF: (vertices, triangles)) rather than from files.
 #[pyfunction]
@@ -102,7 +105,7 @@ pub(crate) fn _robot_from_recipe(
     if tag != "urdf" {
         return Err(bad());
     }
-    let given: HashMap<String, (Vec<[f64; 3]>, Vec<[u32; 3]>)> = match &meshes {
+    let given: HashMap<String, PickledMesh> = match &meshes {
         Some(m) => m.extract().map_err(|_| bad())?,
         None => HashMap::new(),
     };
