@@ -627,8 +627,8 @@ class WorldContact:
 def _motion_from_parts(kind: str, start: ArrayLike, end: ArrayLike, center: Sequence[float]) -> Motion:
     """Unpickles a Motion."""
 
-def _robot_from_recipe(recipe: Sequence[tuple]) -> Robot:
-    """Unpickles a Robot: replays its recipe."""
+def _robot_from_recipe(recipe: Sequence[tuple], meshes: Optional[dict] = None) -> Robot:
+    """Unpickles a Robot: replays its recipe, the URDF's meshes taken from meshes."""
 
 def _scene_from_parts(items: Sequence[tuple[str, Mesh, ArrayLike]]) -> Scene:
     """Unpickles a Scene."""
