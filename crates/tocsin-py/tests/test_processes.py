@@ -85,3 +85,32 @@ def test_threads_give_the_single_thread_answers():
     expected = _expected(seeds)
     with cf.ThreadPoolExecutor(4) as ex:
         assert list(ex.map(_work, seeds)) == expected
+
+
+def _world_work(args):
+    """A World's first contacts in a child, on a Mesh the parent pickled to it."""
+    mesh, seed = args
+    world = tocsin.World()
+    world.add_static(tocsin.Mesh.plate(40.0, 2), np.eye(4))
+    n = 6
+    starts = np.tile(np.eye(4), (n, 1, 1))
+    ends = starts.copy()
+    starts[:, 0, 3] = np.arange(n) * 9.0 - 20.0
+    starts[:, 2, 3] = 5.0 + seed
+    ends[:, 0, 3] = starts[:, 0, 3]
+    ends[:, 2, 3] = -5.0
+    ids = [world.add_body(mesh, np.eye(4)) for _ in range(n)]
+    world.set_motions(ids, starts, ends, kind="translation")
+    return [(c.body1, c.body2, c.time) for c in world.first_contacts()]
+
+
+@pytest.mark.parametrize("method", ["fork", "spawn"])
+def test_worlds_in_child_processes_with_pickled_meshes(method):
+    _warm_parent()
+    knot = tocsin.Mesh.torus_knot(60, 8)
+    jobs = [(knot, s) for s in (0, 1, 2)]
+    with mp.get_context(method).Pool(2) as pool:
+        got = pool.map_async(_world_work, jobs).get(timeout=120)
+    expected = [_world_work(j) for j in jobs]
+    assert got == expected
+    assert all(len(g) == 6 for g in got)
