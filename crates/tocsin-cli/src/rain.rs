@@ -1,7 +1,9 @@
 //! `tocsin rain`: a simulation that never tunnels. Rods and cubes are thrown down at high speed,
 //! spinning, through a rack of tilted 1 mm plates into a bin of 1 mm plates; each step advances
 //! every body to the world's earliest contact ([`tocsin::world::first_contacts`]), resolves it
-//! with an impulse, and goes on with the rest of the step.
+//! with impulses, and goes on with the rest of the step, asking again only about the pairs of
+//! the bodies the impulses moved ([`tocsin::world::first_contacts_among`]) and the pairs due at
+//! that instant: within a piece of a step the others keep their paths, so their answers hold.
 //!
 //! Physics (simple on purpose; the point is the collision detection):
 //! - bodies are boxes of density 1000 kg/m^3, their origin at the centre of mass; gravity
@@ -11,16 +13,19 @@
 //!   free flight of a body without gravity; a piece of a step never turns a body by more than
 //!   [`MAX_TURN`] (the interpolation's rotation must stay below pi);
 //! - a contact is the pair's first time within [`TOLERANCE`] (0.1 mm). A pair already within
-//!   it at the start of a piece that is approaching gets its impulse at once; one that is
+//!   it at the start of a piece that is approaching gets its impulses at once; one that is
 //!   separating is checked for the rest of the piece with half its present distance as the
 //!   tolerance, so that no pair is ever excused from the check (bodies never touch);
-//! - impulses at the contact point along the contact normal: the normal velocity after is
-//!   `max(-e vn, SEPARATION, (TOLERANCE - gap) / RESTORE)` with restitution `e` =
+//! - impulses on the contact's manifold (the witness point and every box corner within
+//!   [`MANIFOLD`] of the other box) along the contact normal, by sequential impulses: a point
+//!   within the tolerance gets a normal velocity of at least
+//!   `max(-e vn, SEPARATION, (TOLERANCE - gap) / RESTORE)`, with restitution `e` =
 //!   [`RESTITUTION`], a small separation speed [`SEPARATION`] (2 cm/s) that keeps resting
 //!   bodies from contacting again within the same instant, and a correction that brings a
 //!   point closer than the tolerance back to it in [`RESTORE`] (2 ms), so that gaps do not
-//!   shrink towards rounding in resting contact; Coulomb friction with coefficient [`FRICTION`] clamps the tangential
-//!   impulse to `mu` times the normal one;
+//!   shrink towards rounding in resting contact; farther points are speculative contacts;
+//!   Coulomb friction with coefficient [`FRICTION`] clamps each point's tangential impulse to
+//!   `mu` times its normal one;
 //! - after [`MAX_EVENTS`] contacts in one step, the rest of that step is skipped (bodies keep
 //!   their velocities but do not move: never unsafe), and the step is counted as frozen.
 //!
