@@ -54,5 +54,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<robot::RobotCache>()?;
     m.add_class::<world::World>()?;
     m.add_class::<world::WorldContact>()?;
+    m.add_function(wrap_pyfunction!(world::_world_from_parts, m)?)?;
     Ok(())
 }

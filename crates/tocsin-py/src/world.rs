@@ -288,10 +288,64 @@ impl World {
         pairs_array(py, r.into_iter())
     }
 
+    /// Pickling: each distinct mesh once, then every body's mesh index, motion and whether it
+    /// is static; the copy shares its meshes between bodies as the original does.
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let w = self.snapshot();
+        let f = py.import("tocsin._core")?.getattr("_world_from_parts")?;
+        let mut meshes: Vec<Py<Mesh>> = Vec::new();
+        let mut seen: Vec<*const tocsin::TriMesh> = Vec::new();
+        let mut bodies = Vec::with_capacity(w.len());
+        for i in 0..w.len() {
+            let m = w.mesh(i);
+            let k = match seen.iter().position(|p| std::ptr::eq(*p, Arc::as_ptr(m))) {
+                Some(k) => k,
+                None => {
+                    seen.push(Arc::as_ptr(m));
+                    meshes.push(Py::new(py, Mesh { inner: m.clone() })?);
+                    seen.len() - 1
+                }
+            };
+            let motion = Py::new(
+                py,
+                Motion {
+                    inner: *w.motion(i),
+                },
+            )?;
+            bodies.push((k, motion, w.is_static(i)));
+        }
+        Ok((f, (meshes, bodies)).into_pyobject(py)?.into_any())
+    }
+
     fn __repr__(&self) -> String {
         let w = self.snapshot();
         format!("World(bodies={}, meshes={})", w.len(), w.num_meshes())
     }
+}
+
+/// Unpickles a World (`World.__reduce__`).
+#[pyfunction]
+pub(crate) fn _world_from_parts(
+    py: Python<'_>,
+    meshes: Vec<Bound<'_, Mesh>>,
+    bodies: Vec<(usize, Bound<'_, Motion>, bool)>,
+) -> PyResult<World> {
+    let mut w = core::World::new();
+    for (k, motion, fixed) in bodies {
+        let mesh = meshes
+            .get(k)
+            .ok_or_else(|| error(py, "WorldError", "a pickled world names a mesh it lacks"))?;
+        let inner = mesh.borrow().inner.clone();
+        let m = motion.borrow().inner;
+        if fixed {
+            w.add_static(&inner, m.start());
+        } else {
+            w.add_body(&inner, m);
+        }
+    }
+    Ok(World {
+        inner: RwLock::new(Arc::new(w)),
+    })
 }
 
 /// A pair of bodies that comes within its tolerance during the step: body1 < body2 and the

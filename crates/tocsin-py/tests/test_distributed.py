@@ -164,3 +164,25 @@ def test_an_unreachable_cluster_is_a_clear_error():
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
     assert "refused: cannot reach the Ray cluster at 127.0.0.1:1" in out.stdout, out.stdout + out.stderr
+
+
+def test_many_worlds(cluster):
+    knot = tocsin.Mesh.torus_knot(60, 8)
+    worlds = []
+    rng = np.random.default_rng(12)
+    for _ in range(9):
+        w = tocsin.World()
+        w.add_static(tocsin.Mesh.plate(30.0, 2), np.eye(4))
+        for _ in range(6):
+            start = turn(rng.normal(size=3), rng.uniform(0, 3), rng.uniform(-6, 6, size=3) + [0, 0, 5])
+            end = turn(rng.normal(size=3), rng.uniform(0, 3), rng.uniform(-6, 6, size=3) - [0, 0, 5])
+            w.add_body(knot, tocsin.Motion.screw(start, end))
+        worlds.append(w)
+    local = [distributed.WorldContacts.of(w.first_contacts()) for w in worlds]
+    for chunk in (1, 4, 65536):
+        got = distributed.first_contacts(worlds, chunk_size=chunk)
+        assert len(got) == len(local)
+        for g, l in zip(got, local):
+            same(g, l)
+    assert sum(len(l.time) for l in local) > 9
+    assert distributed.first_contacts([]) == []

@@ -118,3 +118,20 @@ def test_a_pickled_robot_needs_no_mesh_file(tmp_path):
     # The copy pickles again, meshes included.
     r3 = pickle.loads(pickle.dumps(r2))
     np.testing.assert_array_equal(r3.check_configurations(q), r2.check_configurations(q))
+
+
+def test_worlds_round_trip_exactly():
+    knot, ball = tocsin.Mesh.torus_knot(60, 8), tocsin.Mesh.sphere(1.0, 6, 8)
+    world = tocsin.World()
+    world.add_static(tocsin.Mesh.plate(40.0, 2), turn([1, 0, 0], 0.1, [0, 0, -1]))
+    rng = np.random.default_rng(3)
+    for k in range(12):
+        start = turn(rng.normal(size=3), rng.uniform(0, 3), rng.uniform(-8, 8, size=3))
+        end = turn(rng.normal(size=3), rng.uniform(0, 3), rng.uniform(-8, 8, size=3))
+        world.add_body(knot if k % 2 else ball, tocsin.Motion.screw(start, end))
+    copy = again(world)
+    assert len(copy) == len(world) and copy.num_meshes == world.num_meshes == 3
+    a = [(c.body1, c.body2, c.time, c.contact.distance) for c in world.first_contacts()]
+    b = [(c.body1, c.body2, c.time, c.contact.distance) for c in copy.first_contacts()]
+    assert a == b and len(a) > 3
+    assert copy.is_static(0) and not copy.is_static(1)

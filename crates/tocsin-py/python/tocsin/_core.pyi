@@ -10,6 +10,7 @@ from numpy.typing import ArrayLike
 __version__: str
 
 __all__ = [
+    "_world_from_parts",
     "_motion_from_parts",
     "_robot_from_recipe",
     "_scene_from_parts",
@@ -632,3 +633,6 @@ def _robot_from_recipe(recipe: Sequence[tuple], meshes: Optional[dict] = None) -
 
 def _scene_from_parts(items: Sequence[tuple[str, Mesh, ArrayLike]]) -> Scene:
     """Unpickles a Scene."""
+
+def _world_from_parts(meshes: Sequence[Mesh], bodies: Sequence[tuple[int, Motion, bool]]) -> World:
+    """Unpickles a World."""

@@ -1,8 +1,11 @@
 """tocsin's batch queries on a Ray cluster, with the same results as the local batches.
 
 Install with ``pip install "tocsin[ray]"``; ``import tocsin`` never imports ray, only this
-module does. Each batch is cut into chunks of rows; each chunk runs as a Ray task calling the
-local batch function (all cores of its worker), and the chunks' results are put back together
+module does. The batches: :func:`distance_batch`, :func:`collide_batch`,
+:func:`time_of_contact_batch`, a robot's :func:`paths_are_free` and
+:func:`check_configurations`, and :func:`first_contacts` of many worlds. Each batch is cut into
+chunks of rows; each chunk runs as a Ray task calling the local batch function, and the
+chunks' results are put back together
 in input order: the answer is identical, bit for bit, to the local batch's. A task takes one of
 Ray's CPUs and runs its chunk on one thread (``RAYON_NUM_THREADS=1`` in the workers), so a
 cluster of N CPUs runs N chunks at once.
@@ -40,12 +43,12 @@ import socket
 import sys
 import uuid
 from collections import OrderedDict
-from typing import Any, Callable, Optional, Sequence
+from typing import Any, Callable, NamedTuple, Optional, Sequence
 
 import numpy as np
 
 from . import _batch
-from ._core import Mesh, Robot, Scene
+from ._core import Mesh, Robot, Scene, World
 from ._errors import DistributedError, TocsinError
 
 __all__ = [
@@ -56,6 +59,8 @@ __all__ = [
     "time_of_contact_batch",
     "paths_are_free",
     "check_configurations",
+    "first_contacts",
+    "WorldContacts",
     "main",
 ]
 
@@ -144,6 +149,8 @@ def _remote(ray):
 
 def _concat(parts: list):
     first = parts[0]
+    if isinstance(first, list):
+        return [x for p in parts for x in p]
     if isinstance(first, tuple) and hasattr(first, "_fields"):
         return type(first)(*(np.concatenate([getattr(p, f) for p in parts]) for f in first._fields))
     return np.concatenate(parts)
@@ -362,6 +369,66 @@ def check_configurations(
         raise DistributedError(f"qs must be (N, dof), got {q.shape}")
     shared = {"robot": robot, "scene": scene if scene is not None else Scene()}
     return _run(_robot_configurations, shared, {"qs": q}, {}, len(q), chunk_size, address,
+                progress, max_retries)
+
+
+class WorldContacts(NamedTuple):
+    """One world's ``first_contacts`` as arrays (K contacts, sorted by time then bodies)."""
+
+    body1: np.ndarray
+    """(K,) the smaller body index of each pair."""
+    body2: np.ndarray
+    """(K,) the larger body index."""
+    time: np.ndarray
+    """(K,) time of contact in [0, 1]."""
+    point1: np.ndarray
+    """(K, 3) closest points on body1 at `time`, world frame."""
+    point2: np.ndarray
+    """(K, 3) closest points on body2 at `time`, world frame."""
+    normal: np.ndarray
+    """(K, 3) unit normals from body1 to body2, world frame."""
+    distance: np.ndarray
+    """(K,) distance at `time`, model units."""
+
+    @staticmethod
+    def of(contacts) -> "WorldContacts":
+        """The arrays of a list of ``WorldContact``."""
+        k = len(contacts)
+        return WorldContacts(
+            np.array([c.body1 for c in contacts], dtype=np.int64),
+            np.array([c.body2 for c in contacts], dtype=np.int64),
+            np.array([c.time for c in contacts], dtype=np.float64),
+            np.array([c.contact.point1 for c in contacts], dtype=np.float64).reshape(k, 3),
+            np.array([c.contact.point2 for c in contacts], dtype=np.float64).reshape(k, 3),
+            np.array([c.contact.normal for c in contacts], dtype=np.float64).reshape(k, 3),
+            np.array([c.contact.distance for c in contacts], dtype=np.float64),
+        )
+
+
+def _worlds(worlds, tolerance, max_iterations):
+    return [
+        WorldContacts.of(w.first_contacts(tolerance=tolerance, max_iterations=max_iterations))
+        for w in worlds
+    ]
+
+
+def first_contacts(
+    worlds: Sequence[World],
+    tolerance: Optional[float] = None,
+    max_iterations: Optional[int] = None,
+    *,
+    chunk_size: Optional[int] = None,
+    address: Optional[str] = None,
+    progress: bool = False,
+    max_retries: int = 3,
+) -> list:
+    """``World.first_contacts`` of many worlds (one step each: a dataset of scenes) on the Ray
+    cluster: a list of :class:`WorldContacts`, one per world, in input order, identical to
+    ``WorldContacts.of(world.first_contacts(...))`` run here. Worlds pickle with their meshes
+    (each distinct mesh once per world)."""
+    worlds = list(worlds)
+    fixed = {"tolerance": tolerance, "max_iterations": max_iterations}
+    return _run(_worlds, {}, {"worlds": worlds}, fixed, len(worlds), chunk_size, address,
                 progress, max_retries)
 
 
