@@ -22,7 +22,8 @@ for k in range(n):
     angle = rng.uniform(0, 3.0)
     kx = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
     turn = np.eye(3) + np.sin(angle) * kx + (1 - np.cos(angle)) * kx @ kx
-    starts[k, :3, 3] = [rng.uniform(-150, 150), rng.uniform(-150, 150), rng.uniform(5, 40)]
+    # On a grid 12 apart (a knot's radius is about 3.4): no two bodies touch at the start.
+    starts[k, :3, 3] = [12.0 * (k % 18) - 102.0, 12.0 * (k // 18) - 102.0, rng.uniform(5, 40)]
     ends[k, :3, :3] = turn
     ends[k, :3, 3] = starts[k, :3, 3] + [rng.uniform(-5, 5), rng.uniform(-5, 5), -rng.uniform(0, 400)]
 world.set_motions(list(range(1, n + 1)), starts, ends, kind="screw")
