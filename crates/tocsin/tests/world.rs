@@ -349,6 +349,52 @@ fn first_contacts_match_every_pair_through_the_single_query() {
 }
 
 #[test]
+fn first_contacts_match_the_brute_force_at_huge_and_tiny_scales() {
+    let mut r = rng(404);
+    for scale in [1e-4, 1e4] {
+        let meshes: Vec<Arc<TriMesh>> = test_meshes()
+            .iter()
+            .map(|m| {
+                let v = m.vertices().iter().map(|p| *p * scale).collect();
+                Arc::new(TriMesh::new(v, m.triangles().to_vec()).unwrap())
+            })
+            .collect();
+        let n = 40;
+        let spread = (2.0 * (n as f64).cbrt() + 1.0) * scale;
+        // Motions scaled with the scene: random_world draws reaches relative to `spread`.
+        let world = random_world(&mut r, n, &meshes, spread);
+        let options = WorldOptions::default();
+        let expected = brute_first_contacts(&world, &options.contact);
+        assert!(
+            expected.len() > 3,
+            "scale {scale}: {} contacts",
+            expected.len()
+        );
+        assert_eq!(
+            first_contacts(&world, &options).unwrap().contacts,
+            expected,
+            "scale {scale}"
+        );
+        let poses = world.poses_at(0.5);
+        let mut colliding = Vec::new();
+        for i in 0..n {
+            for j in i + 1..n {
+                if !(world.is_static(i) && world.is_static(j))
+                    && collide(world.mesh(i), &poses[i], world.mesh(j), &poses[j])
+                {
+                    colliding.push((i, j));
+                }
+            }
+        }
+        assert_eq!(
+            colliding_pairs(&world, &poses).unwrap(),
+            colliding,
+            "scale {scale}"
+        );
+    }
+}
+
+#[test]
 fn shared_meshes_cost_one_hierarchy() {
     let knot = Arc::new(generate::torus_knot(30, 6).unwrap());
     let mut world = World::new();
