@@ -95,7 +95,7 @@ pub struct RainArgs {
     /// Downward launch speed, m/s.
     #[arg(long, default_value_t = 15.0)]
     speed: f64,
-    /// A folder to write PNG frames and a strip of eight frames into.
+    /// A folder to write eight PNG frames (first step to last) and a strip of them into.
     #[arg(long)]
     frames: Option<PathBuf>,
     /// Put the scene (plates, bodies' start states, constants) in the JSON out.
@@ -429,7 +429,10 @@ pub fn run(args: &RainArgs) -> Result<Value, String> {
         crossed: vec![false; bodies.len()],
         ..Default::default()
     };
-    let frame_every = (args.steps / 8).max(1);
+    // Eight frames from the first step to the last, evenly spaced.
+    let marks: Vec<usize> = (0..8)
+        .map(|k| k * args.steps.saturating_sub(1) / 7)
+        .collect();
     let mut frames = Vec::new();
     for step in 0..args.steps {
         let clock = Instant::now();
@@ -447,7 +450,7 @@ pub fn run(args: &RainArgs) -> Result<Value, String> {
         let poses = world.poses_at(1.0);
         tally.intersections += colliding_pairs(&world, &poses).map_err(world_error)?.len();
         tally.step_ms.push(clock.elapsed().as_secs_f64() * 1e3);
-        if args.frames.is_some() && (step % frame_every == 0 || step + 1 == args.steps) {
+        if args.frames.is_some() && marks.contains(&step) && frames.len() < 8 {
             frames.push(draw(&world, first));
         }
     }
