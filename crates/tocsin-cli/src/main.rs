@@ -57,7 +57,8 @@ struct MotionArgs {
     mesh1: String,
     /// Second mesh: a path or builtin:NAME.
     mesh2: String,
-    /// Motion of mesh 1, KIND:START:END[:CENTER] (default: stays at the identity).
+    /// Motion of mesh 1, KIND:START:END or KIND:START:END:CENTER (default: stays at the
+    /// identity).
     #[arg(long, allow_hyphen_values = true)]
     motion1: Option<String>,
     /// Motion of mesh 2, same form (default: stays at the identity).
