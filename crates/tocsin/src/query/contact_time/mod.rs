@@ -228,8 +228,9 @@ pub fn motion_is_free(
     Ok(advance(mesh1, motion1, mesh2, motion2, options, &mut cache)?.is_none())
 }
 
-/// The advancement of two rigid motions over `[0, 1]` (module docs).
-fn advance(
+/// The advancement of two rigid motions over `[0, 1]` (module docs); [`finish`] gives the
+/// witnesses of where it ended.
+pub(crate) fn advance(
     mesh1: &TriMesh,
     motion1: &Motion,
     mesh2: &TriMesh,

@@ -19,7 +19,12 @@
 //!    is beyond both bounding radii and the centres' distance, certainly apart), and body 2 is
 //!    translated straight back from there to where it is; the time of contact of that motion is
 //!    where it first touches body 1 coming from the free side: a collision-free, touching
-//!    translation `t = s d`. The shortest three are refined.
+//!    translation `t = s d`. The shortest three are refined. Two savings change no answer: a
+//!    direction is dropped as soon as one of its samples still penetrates beyond the third
+//!    shortest translation found so far (the motion back from the free sample passes through
+//!    that sample, so its translation would be longer), and the witnesses (the continuous
+//!    query's final exact distance) are computed only for the three kept (knot2.8k at 5%: 8.1
+//!    to 2.7 ms, the same depths bit for bit).
 //! 3. **Local refinement (in-projection, then out-projection).** Each out-projection ends at a
 //!    touching translation `t` with a contact normal `n` (from body 1 to body 2): near it the
 //!    contact space is the half-space `n . (x - t) >= 0`. The last four such planes stand for
@@ -41,7 +46,9 @@ use crate::error::ContactError;
 use crate::math::{Pose, Vec3};
 use crate::motion::Motion;
 use crate::query::collide::collide;
-use crate::query::contact_time::{effective_tolerance, time_of_contact, ContactOptions};
+use crate::query::contact_time::{
+    advance, effective_tolerance, finish, ContactCache, ContactOptions, Ends, Path,
+};
 use crate::query::penetration::convex;
 use crate::query::penetration::winding::inside;
 use crate::TriMesh;
@@ -155,6 +162,24 @@ struct Touch {
     point2: Vec3,
 }
 
+/// An out-projection whose continuous query has ended, its witnesses not yet computed: the
+/// seeds only need the length of their touching translation to be ranked, and only the kept
+/// ones get witnesses ([`complete`]).
+struct Pending {
+    d: Vec3,
+    s0: f64,
+    motion: Motion,
+    ends: Ends,
+    cache: ContactCache,
+}
+
+impl Pending {
+    /// Length of the touching translation.
+    fn length(&self) -> f64 {
+        self.s0 * (1.0 - self.ends.time)
+    }
+}
+
 #[allow(clippy::too_many_arguments)]
 fn out_project(
     mesh1: &TriMesh,
@@ -165,6 +190,27 @@ fn out_project(
     far: f64,
     options: &ContactOptions,
 ) -> Result<Option<Touch>, ContactError> {
+    Ok(
+        out_project_pending(mesh1, pose1, mesh2, pose2, d, far, options, f64::INFINITY)?
+            .map(|p| complete(mesh1, pose1, mesh2, p)),
+    )
+}
+
+/// The out-projection along `d` up to the end of its continuous query. `bound`: a length the
+/// touching translation must not exceed to be of use; once a penetrating sample lies beyond
+/// it, the translation would too (the motion back from the free sample passes through that
+/// sample, so it touches before), and the direction is dropped (`None`).
+#[allow(clippy::too_many_arguments)]
+fn out_project_pending(
+    mesh1: &TriMesh,
+    pose1: &Pose,
+    mesh2: &TriMesh,
+    pose2: &Pose,
+    d: Vec3,
+    far: f64,
+    options: &ContactOptions,
+    bound: f64,
+) -> Result<Option<Pending>, ContactError> {
     let Some(d) = d.try_normalize() else {
         return Ok(None);
     };
@@ -182,6 +228,9 @@ fn out_project(
             start_s = Some(s);
             break;
         }
+        if s > bound {
+            return Ok(None);
+        }
     }
     let Some(s0) = start_s else {
         return Ok(None);
@@ -191,14 +240,36 @@ fn out_project(
         Err(_) => return Ok(None),
     };
     let still = Motion::stationary(*pose1);
+    let mut cache = ContactCache::default();
     Ok(
-        time_of_contact(mesh1, &still, mesh2, &motion, options)?.map(|c| Touch {
-            translation: d * s0 * (1.0 - c.time),
-            normal: c.normal,
-            point1: c.point1,
-            point2: c.point2,
+        advance(mesh1, &still, mesh2, &motion, options, &mut cache)?.map(|ends| Pending {
+            d,
+            s0,
+            motion,
+            ends,
+            cache,
         }),
     )
+}
+
+/// The witnesses of an out-projection (the continuous query's last step).
+fn complete(mesh1: &TriMesh, pose1: &Pose, mesh2: &TriMesh, p: Pending) -> Touch {
+    let still = Motion::stationary(*pose1);
+    let mut cache = p.cache;
+    let c = finish(
+        mesh1,
+        Path::Rigid(&still),
+        mesh2,
+        Path::Rigid(&p.motion),
+        p.ends,
+        &mut cache,
+    );
+    Touch {
+        translation: p.d * p.s0 * (1.0 - c.time),
+        normal: c.normal,
+        point1: c.point1,
+        point2: c.point2,
+    }
 }
 
 /// Samples along each direction before the continuous query (see `out_project`).
@@ -381,14 +452,27 @@ pub fn penetration_depth(
         }
     }
     seeds.extend(sphere_directions(options.directions));
-    let mut touches: Vec<Touch> = Vec::new();
+    // The shortest STARTS touching translations, in seed order among equals; a seed that
+    // cannot beat the current last of them is dropped as soon as that is known.
+    let mut kept: Vec<Pending> = Vec::new();
     for d in seeds {
-        if let Some(t) = out_project(mesh1, pose1, mesh2, pose2, d, far, &contact_options)? {
-            touches.push(t);
+        let bound = if kept.len() < STARTS {
+            f64::INFINITY
+        } else {
+            kept[STARTS - 1].length()
+        };
+        let found =
+            out_project_pending(mesh1, pose1, mesh2, pose2, d, far, &contact_options, bound)?;
+        if let Some(p) = found {
+            let at = kept.partition_point(|q| q.length() <= p.length());
+            kept.insert(at, p);
+            kept.truncate(STARTS);
         }
     }
-    touches.sort_by(|a, b| a.translation.length().total_cmp(&b.translation.length()));
-    touches.truncate(STARTS);
+    let touches: Vec<Touch> = kept
+        .into_iter()
+        .map(|p| complete(mesh1, pose1, mesh2, p))
+        .collect();
     let mut result: Option<(Touch, usize, DepthStatus)> = None;
     for start in touches {
         let (t, iterations, status) = refine(
