@@ -386,6 +386,8 @@ fn world_error(e: impl std::fmt::Display) -> String {
 struct Tally {
     events: usize,
     frozen_steps: usize,
+    /// Pair queries that reached their iteration cap (the piece then stops where they did).
+    capped: usize,
     intersections: usize,
     crossings: usize,
     crossed: Vec<bool>,
@@ -477,6 +479,7 @@ pub fn run(args: &RainArgs) -> Result<Value, String> {
         "intersecting_pairs": tally.intersections,
         "contacts_resolved": tally.events,
         "frozen_steps": tally.frozen_steps,
+        "capped_queries": tally.capped,
         "in_bin": in_bin,
         "ms_per_step": {
             "median": pick(0.5),
@@ -590,6 +593,7 @@ fn step_once(
                 found
             }
         };
+        tally.capped += found.undecided.len();
         for u in &found.undecided {
             known.insert((u.body1, u.body2), (now + u.time_reached * h, None));
         }
@@ -660,6 +664,7 @@ fn step_once(
                     known.remove(&key);
                 }
                 Err(ContactError::IterationLimit { time_reached, .. }) => {
+                    tally.capped += 1;
                     known.insert(key, (now + time_reached * h, None));
                 }
                 Err(e) => return Err(world_error(e)),
