@@ -137,29 +137,26 @@ def run_pybullet(scene, steps, substeps):
 def run_mujoco(scene, steps, timestep):
     import mujoco
 
+    def placed(name, item):
+        """The box mesh asset `name` and the MJCF position and orientation of `item`."""
+        pose = np.asarray(item["pose"])
+        verts, faces = box_mesh(item["half_extents"])
+        v = " ".join(f"{c:.17g}" for c in np.ravel(verts))
+        f = " ".join(str(i) for i in np.ravel(faces))
+        assets.append(f'<mesh name="{name}" vertex="{v}" face="{f}"/>')
+        q = quat_xyzw(pose[:3, :3])
+        return f'pos="{" ".join(map(str, pose[:3, 3]))}" quat="{q[3]} {q[0]} {q[1]} {q[2]}"'
+
+    friction = f'friction="{scene["friction"]} 0.005 0.0001"'
     assets, geoms, bodies = [], [], []
     for k, plate in enumerate(scene["plates"]):
-        pose = np.asarray(plate["pose"])
-        verts, faces = box_mesh(plate["half_extents"])
-        v = " ".join(f"{c:.17g}" for c in np.ravel(verts))
-        f = " ".join(str(i) for i in np.ravel(faces))
-        assets.append(f'<mesh name="plate{k}" vertex="{v}" face="{f}"/>')
-        q = quat_xyzw(pose[:3, :3])
-        geoms.append(
-            f'<geom type="mesh" mesh="plate{k}" pos="{" ".join(map(str, pose[:3, 3]))}" '
-            f'quat="{q[3]} {q[0]} {q[1]} {q[2]}" friction="{scene["friction"]} 0.005 0.0001"/>'
-        )
+        where = placed(f"plate{k}", plate)
+        geoms.append(f'<geom type="mesh" mesh="plate{k}" {where} {friction}/>')
     for k, body in enumerate(scene["bodies"]):
-        pose = np.asarray(body["pose"])
-        verts, faces = box_mesh(body["half_extents"])
-        v = " ".join(f"{c:.17g}" for c in np.ravel(verts))
-        f = " ".join(str(i) for i in np.ravel(faces))
-        assets.append(f'<mesh name="body{k}" vertex="{v}" face="{f}"/>')
-        q = quat_xyzw(pose[:3, :3])
+        where = placed(f"body{k}", body)
         bodies.append(
-            f'<body name="b{k}" pos="{" ".join(map(str, pose[:3, 3]))}" quat="{q[3]} {q[0]} {q[1]} {q[2]}">'
-            f'<freejoint/><geom type="mesh" mesh="body{k}" density="{scene["density"]}" '
-            f'friction="{scene["friction"]} 0.005 0.0001"/></body>'
+            f'<body name="b{k}" {where}><freejoint/><geom type="mesh" mesh="body{k}" '
+            f'density="{scene["density"]}" {friction}/></body>'
         )
     xml = (
         f'<mujoco><option timestep="{timestep}" gravity="0 0 {-scene["gravity"]}"/>'

@@ -366,6 +366,30 @@ fn resolve(
     true
 }
 
+/// The single query on bodies `i`, `j` over the piece: `Some((time, Some(contact)))` for a
+/// contact, `Some((time_reached, None))` when it reached its iteration cap (free up to then
+/// only), `None` when the pair stays apart.
+fn ask_pair(
+    world: &World,
+    i: usize,
+    j: usize,
+    options: &ContactOptions,
+) -> Result<Option<(f64, Option<tocsin::ContactTime>)>, String> {
+    let c = time_of_contact(
+        world.mesh(i),
+        world.motion(i),
+        world.mesh(j),
+        world.motion(j),
+        options,
+    );
+    match c {
+        Ok(Some(contact)) => Ok(Some((contact.time, Some(contact)))),
+        Ok(None) => Ok(None),
+        Err(ContactError::IterationLimit { time_reached, .. }) => Ok(Some((time_reached, None))),
+        Err(e) => Err(world_error(e)),
+    }
+}
+
 /// Whether the straight path of a point from `p0` to `p1` passes through the plate's rectangle.
 fn crosses(plate: &Plate, p0: Vec3, p1: Vec3) -> bool {
     let inv = plate.pose.inverse();
@@ -566,28 +590,20 @@ fn step_once(
                     if ask.contains(&i) || ask.contains(&j) {
                         continue;
                     }
-                    let c = time_of_contact(
-                        world.mesh(i),
-                        world.motion(i),
-                        world.mesh(j),
-                        world.motion(j),
-                        &options.contact,
-                    );
-                    match c {
-                        Ok(Some(contact)) => found.contacts.push(WorldContact {
+                    match ask_pair(world, i, j, &options.contact)? {
+                        Some((_, Some(contact))) => found.contacts.push(WorldContact {
                             body1: i,
                             body2: j,
                             contact,
                         }),
-                        Ok(None) => {}
-                        Err(ContactError::IterationLimit { time_reached, .. }) => {
+                        Some((time_reached, None)) => {
                             found.undecided.push(tocsin::world::Undecided {
                                 body1: i,
                                 body2: j,
                                 time_reached,
                             });
                         }
-                        Err(e) => return Err(world_error(e)),
+                        None => {}
                     }
                 }
                 found
@@ -645,29 +661,17 @@ fn step_once(
                 tolerance: Some(0.5 * c.contact.distance),
                 ..options.contact
             };
-            let (i, j) = key;
-            let again = time_of_contact(
-                world.mesh(i),
-                world.motion(i),
-                world.mesh(j),
-                world.motion(j),
-                &tight,
-            );
-            match again {
-                Ok(Some(contact)) => {
-                    known.insert(
-                        key,
-                        (now + contact.time * h, Some(WorldContact { contact, ..c })),
-                    );
+            match ask_pair(world, key.0, key.1, &tight)? {
+                Some((t, Some(contact))) => {
+                    known.insert(key, (now + t * h, Some(WorldContact { contact, ..c })));
                 }
-                Ok(None) => {
-                    known.remove(&key);
-                }
-                Err(ContactError::IterationLimit { time_reached, .. }) => {
+                Some((time_reached, None)) => {
                     tally.capped += 1;
                     known.insert(key, (now + time_reached * h, None));
                 }
-                Err(e) => return Err(world_error(e)),
+                None => {
+                    known.remove(&key);
+                }
             }
         }
         let next = known.values().map(|(t, _)| *t).fold(end, f64::min);

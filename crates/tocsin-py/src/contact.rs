@@ -19,7 +19,7 @@ use tocsin::{ContactOptions, ContactStatus, Vec3};
 pub(crate) struct ContactResult {
     /// Time of contact in [0, 1], no later than the first collision.
     #[pyo3(get)]
-    time: f64,
+    pub(crate) time: f64,
     p1: Vec3,
     p2: Vec3,
     n: Vec3,

@@ -361,7 +361,6 @@ pub(crate) struct WorldContact {
     /// The pair's first contact (time, world-frame points, normal from body1 to body2).
     #[pyo3(get)]
     contact: Py<ContactResult>,
-    time: f64,
 }
 
 #[pymethods]
@@ -369,13 +368,15 @@ impl WorldContact {
     /// The contact's time in [0, 1] (contact.time).
     #[getter]
     fn time(&self) -> f64 {
-        self.time
+        self.contact.get().time
     }
 
     fn __repr__(&self) -> String {
         format!(
             "WorldContact(body1={}, body2={}, time={})",
-            self.body1, self.body2, self.time
+            self.body1,
+            self.body2,
+            self.time()
         )
     }
 }
@@ -386,7 +387,6 @@ impl WorldContact {
             body1: c.body1,
             body2: c.body2,
             contact: Py::new(py, ContactResult::from_core(&c.contact))?,
-            time: c.contact.time,
         })
     }
 }

@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 import tocsin
+from _geometry import turn
 
 import ray  # installed by `make test`
 
@@ -24,15 +25,6 @@ def cluster():
     info = ray.init(num_cpus=2, include_dashboard=False, log_to_driver=False)
     yield info.address_info["address"]
     ray.shutdown()
-
-
-def turn(axis, angle, t):
-    axis = np.asarray(axis, float) / np.linalg.norm(axis)
-    k = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
-    p = np.eye(4)
-    p[:3, :3] = np.eye(3) + np.sin(angle) * k + (1 - np.cos(angle)) * k @ k
-    p[:3, 3] = t
-    return p
 
 
 def knot_poses(n, seed):

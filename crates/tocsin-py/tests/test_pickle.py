@@ -7,18 +7,10 @@ import numpy as np
 import pytest
 
 import tocsin
+from _geometry import turn
 
 ROOT = pathlib.Path(__file__).resolve().parents[3]
 PANDA = ROOT / "data" / "franka_panda" / "panda.urdf"
-
-
-def turn(axis, angle, t):
-    axis = np.asarray(axis, float) / np.linalg.norm(axis)
-    k = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
-    p = np.eye(4)
-    p[:3, :3] = np.eye(3) + np.sin(angle) * k + (1 - np.cos(angle)) * k @ k
-    p[:3, 3] = t
-    return p
 
 
 def again(x):

@@ -231,17 +231,17 @@ def _report_progress(ray, futures):
         bar.close()
 
 
-def _rows(name: str, value, dims: int) -> tuple:
-    """An array split by rows when it has ``dims`` dimensions, else broadcast (None)."""
-    arr = np.asarray(value, dtype=np.float64)
-    return (arr, len(arr)) if arr.ndim == dims else (arr, None)
-
-
-def _common(count_from: dict):
-    counts = {n: c for n, (_, c) in count_from.items() if c is not None}
+def _split(poses: dict) -> tuple:
+    """Pose arguments split into per-row arrays ((K, 4, 4): cut into chunks) and fixed ones
+    (a single (4, 4): passed whole to every chunk); with the row count K."""
+    rows, fixed = {}, {}
+    for name, value in poses.items():
+        arr = np.asarray(value, dtype=np.float64)
+        (rows if arr.ndim == 3 else fixed)[name] = arr
+    counts = {n: len(a) for n, a in rows.items()}
     if len(set(counts.values())) > 1:
         raise DistributedError(f"row counts differ: {counts}")
-    return next(iter(counts.values()), 1)
+    return rows, fixed, next(iter(counts.values()), 1)
 
 
 def distance_batch(
@@ -258,14 +258,8 @@ def distance_batch(
     max_retries: int = 3,
 ) -> _batch.DistanceBatch:
     """``tocsin.distance_batch`` on the Ray cluster: identical results, in input order."""
-    p1, p2 = _rows("poses1", poses1, 3), _rows("poses2", poses2, 3)
-    count = _common({"poses1": p1, "poses2": p2})
-    rows = {"poses1": p1[0]}
-    fixed = {"relative_error": relative_error, "absolute_error": absolute_error}
-    if p2[1] is None:
-        fixed["poses2"] = p2[0]
-    else:
-        rows["poses2"] = p2[0]
+    rows, fixed, count = _split({"poses1": poses1, "poses2": poses2})
+    fixed.update({"relative_error": relative_error, "absolute_error": absolute_error})
     return _run(_batch.distance_batch, {"mesh1": mesh1, "mesh2": mesh2}, rows, fixed, count,
                 chunk_size, address, progress, max_retries)
 
@@ -282,13 +276,7 @@ def collide_batch(
     max_retries: int = 3,
 ) -> np.ndarray:
     """``tocsin.collide_batch`` on the Ray cluster: identical results, in input order."""
-    p1, p2 = _rows("poses1", poses1, 3), _rows("poses2", poses2, 3)
-    count = _common({"poses1": p1, "poses2": p2})
-    rows, fixed = {"poses1": p1[0]}, {}
-    if p2[1] is None:
-        fixed["poses2"] = p2[0]
-    else:
-        rows["poses2"] = p2[0]
+    rows, fixed, count = _split({"poses1": poses1, "poses2": poses2})
     return _run(_batch.collide_batch, {"mesh1": mesh1, "mesh2": mesh2}, rows, fixed, count,
                 chunk_size, address, progress, max_retries)
 
@@ -312,11 +300,7 @@ def time_of_contact_batch(
     """``tocsin.time_of_contact_batch`` on the Ray cluster: identical results, in input order."""
     starts2 = np.eye(4) if starts2 is None else starts2
     ends2 = starts2 if ends2 is None else ends2
-    arrays = {n: _rows(n, v, 3) for n, v in
-              {"starts1": starts1, "ends1": ends1, "starts2": starts2, "ends2": ends2}.items()}
-    count = _common(arrays)
-    rows = {n: a for n, (a, c) in arrays.items() if c is not None}
-    fixed = {n: a for n, (a, c) in arrays.items() if c is None}
+    rows, fixed, count = _split({"starts1": starts1, "ends1": ends1, "starts2": starts2, "ends2": ends2})
     fixed.update({"kind": kind, "tolerance": tolerance, "max_iterations": max_iterations})
     return _run(_batch.time_of_contact_batch, {"mesh1": mesh1, "mesh2": mesh2}, rows, fixed,
                 count, chunk_size, address, progress, max_retries)

@@ -24,7 +24,7 @@ pub mod swept;
 use crate::error::{ContactError, OptionsError};
 use crate::math::{Pose, Vec3};
 use crate::motion::Motion;
-use crate::query::contact_time::{time_of_contact, ContactOptions, ContactTime};
+use crate::query::contact_time::{check_options, time_of_contact, ContactOptions, ContactTime};
 use crate::TriMesh;
 use broad::{sweep_and_prune, SweepAxis};
 use rayon::prelude::*;
@@ -307,7 +307,11 @@ impl World {
     /// [`WorldError::Options`] for a bad tolerance.
     pub fn candidate_pairs(&self, options: &WorldOptions) -> Result<Vec<(u32, u32)>, WorldError> {
         check_options(&options.contact)?;
-        let margins = self.margins(&options.contact);
+        Ok(self.swept_pairs(options, &self.margins(&options.contact)))
+    }
+
+    /// [`World::candidate_pairs`] with the bodies' box margins given.
+    fn swept_pairs(&self, options: &WorldOptions, margins: &[f64]) -> Vec<(u32, u32)> {
         let boxes: Vec<Aabb> = self
             .bodies
             .par_iter()
@@ -316,7 +320,7 @@ impl World {
             .collect();
         let mut pairs = sweep_and_prune(&boxes, options.axis);
         pairs.retain(|&(i, j)| !(self.bodies[i as usize].fixed && self.bodies[j as usize].fixed));
-        Ok(pairs)
+        pairs
     }
 
     /// Candidate pairs with the first slice of the step where their boxes meet (pipeline step
@@ -326,11 +330,12 @@ impl World {
         options: &WorldOptions,
         among: Option<&[bool]>,
     ) -> Result<(usize, Vec<SlicedPair>), WorldError> {
-        let mut pairs = self.candidate_pairs(options)?;
+        check_options(&options.contact)?;
+        let margins = self.margins(&options.contact);
+        let mut pairs = self.swept_pairs(options, &margins);
         if let Some(mask) = among {
             pairs.retain(|&(i, j)| mask[i as usize] || mask[j as usize]);
         }
-        let margins = self.margins(&options.contact);
         let mut used = vec![false; self.bodies.len()];
         for &(i, j) in &pairs {
             used[i as usize] = true;
@@ -426,26 +431,6 @@ impl World {
         pairs.retain(|&(i, j)| !(self.bodies[i as usize].fixed && self.bodies[j as usize].fixed));
         pairs
     }
-}
-
-fn check_options(options: &ContactOptions) -> Result<(), OptionsError> {
-    if let Some(t) = options.tolerance {
-        if !(t.is_finite() && t > 0.0) {
-            return Err(OptionsError::OutOfRange {
-                name: "tolerance",
-                requirement: "must be positive and finite",
-                value: t,
-            });
-        }
-    }
-    if options.max_iterations == 0 {
-        return Err(OptionsError::OutOfRange {
-            name: "max_iterations",
-            requirement: "must be at least 1",
-            value: 0.0,
-        });
-    }
-    Ok(())
 }
 
 /// Every pair of bodies that comes within its tolerance during the step, each with the first

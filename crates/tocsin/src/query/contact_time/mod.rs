@@ -354,6 +354,12 @@ fn validate(
     motion2: &Motion,
     options: &ContactOptions,
 ) -> Result<f64, OptionsError> {
+    check_options(options)?;
+    Ok(effective_tolerance(mesh1, motion1, mesh2, motion2, options))
+}
+
+/// The options' ranges: a positive finite tolerance when given, at least one iteration.
+pub(crate) fn check_options(options: &ContactOptions) -> Result<(), OptionsError> {
     if let Some(tolerance) = options.tolerance {
         if !(tolerance.is_finite() && tolerance > 0.0) {
             return Err(OptionsError::OutOfRange {
@@ -370,7 +376,7 @@ fn validate(
             value: 0.0,
         });
     }
-    Ok(effective_tolerance(mesh1, motion1, mesh2, motion2, options))
+    Ok(())
 }
 
 /// [`time_of_contact`] for every `(motion1, motion2)` in `motions`, in parallel (rayon);

@@ -182,6 +182,8 @@ impl Pending {
     }
 }
 
+/// The out-projection along `d` (its direction) completed with its witnesses: the first free
+/// sample, then the continuous query back from it.
 #[allow(clippy::too_many_arguments)]
 fn out_project(
     mesh1: &TriMesh,
@@ -192,27 +194,6 @@ fn out_project(
     far: f64,
     options: &ContactOptions,
 ) -> Result<Option<Touch>, ContactError> {
-    Ok(
-        out_project_pending(mesh1, pose1, mesh2, pose2, d, far, options, f64::INFINITY)?
-            .map(|p| complete(mesh1, pose1, mesh2, p)),
-    )
-}
-
-/// The out-projection along `d` up to the end of its continuous query. `bound`: a length the
-/// touching translation must not exceed to be of use; once a penetrating sample lies beyond
-/// it, the translation would too (the motion back from the free sample passes through that
-/// sample, so it touches before), and the direction is dropped (`None`).
-#[allow(clippy::too_many_arguments)]
-fn out_project_pending(
-    mesh1: &TriMesh,
-    pose1: &Pose,
-    mesh2: &TriMesh,
-    pose2: &Pose,
-    d: Vec3,
-    far: f64,
-    options: &ContactOptions,
-    bound: f64,
-) -> Result<Option<Pending>, ContactError> {
     let Some(d) = d.try_normalize() else {
         return Ok(None);
     };
@@ -222,10 +203,8 @@ fn out_project_pending(
     for k in 1..=RAY_SAMPLES {
         let s = sample(far, k);
         if !penetrating(mesh1, pose1, mesh2, &shifted(pose2, d * s)) {
-            return come_back(mesh1, pose1, mesh2, pose2, d, s, options);
-        }
-        if s > bound {
-            return Ok(None);
+            return Ok(come_back(mesh1, pose1, mesh2, pose2, d, s, options)?
+                .map(|p| complete(mesh1, pose1, mesh2, p)));
         }
     }
     Ok(None)
