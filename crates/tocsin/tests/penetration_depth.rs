@@ -297,3 +297,49 @@ fn hand_cases_against_sampled_directions() {
         assert!(factor < 1.25, "{name}: {} vs sampled {best}", r.depth);
     }
 }
+
+/// Shallow penetrations (1% and 3% of the radius) of a knot and a turned copy, pushed in along
+/// a random direction `u` from a touching start: the answer leaves the bodies apart by at most
+/// 1e-3 of the depth (the final polish; the default tolerance alone, 1e-3 of the radius, is a
+/// tenth of a 1% depth), and is within 1% of the directional depth along `u` (dense sampling
+/// plus bisection with the exact collide and the winding number), which bounds the true
+/// depth from above.
+#[test]
+fn shallow_depths_end_close() {
+    let knot = mesh::torus_knot(100, 8).unwrap();
+    let r = knot.bounding_radius();
+    let mut rng = common::rng(19);
+    let p1 = Pose::IDENTITY;
+    let mut checked = 0;
+    for case in 0..6 {
+        let f = [0.01, 0.03][case % 2];
+        let u = common::random_unit(&mut rng);
+        let rot = common::random_rotation(&mut rng);
+        // Touching from outside along u: the exact directional depth of the copy at the
+        // centre, then pushed back in by f R.
+        let centred = Pose::new(rot, Vec3::ZERO).unwrap();
+        let far = 2.5 * (2.0 * r);
+        let touch = directional(&knot, &p1, &knot, &centred, u, far);
+        let p2 = moved(&centred, u * (touch - f * r));
+        let r_depth = penetration_depth(&knot, &p1, &knot, &p2, &DepthOptions::default()).unwrap();
+        assert_ne!(r_depth.status, DepthStatus::Separated, "case {case}");
+        let after = moved(&p2, r_depth.translation);
+        assert!(!collide(&knot, &p1, &knot, &after), "case {case}");
+        let gap = distance(&knot, &p1, &knot, &after, &DistanceOptions::default())
+            .unwrap()
+            .distance;
+        assert!(
+            gap <= 1e-3 * r_depth.depth * (1.0 + 1e-9),
+            "case {case}: {gap} apart at depth {}",
+            r_depth.depth
+        );
+        let along_u = directional(&knot, &p1, &knot, &p2, u, far);
+        assert!(
+            r_depth.depth <= 1.01 * along_u,
+            "case {case}: depth {} against {along_u} along u",
+            r_depth.depth
+        );
+        checked += 1;
+    }
+    assert_eq!(checked, 6);
+}

@@ -527,7 +527,11 @@ def penetration_depth(
     cached_direction: Optional[ArrayLike] = None,
     exact_convex: bool = True,
 ) -> PenetrationResult:
-    """Translational penetration depth of mesh2 into mesh1 (PolyDepth-style local optimum)."""
+    """Translational penetration depth of mesh2 into mesh1 (PolyDepth-style local optimum).
+
+    After the translation the bodies do not intersect and are apart by at most
+    ``min(tolerance, 1e-3 * depth)``; ``tolerance`` defaults to 1e-3 of the smaller radius.
+    """
 
 @final
 class PointwiseResult:

@@ -12,12 +12,73 @@ use crate::query::distance::intersect_triangle_triangle;
 
 /// Whether `mesh1` at `pose1` and `mesh2` at `pose2` intersect or touch.
 pub fn collide(mesh1: &TriMesh, pose1: &Pose, mesh2: &TriMesh, pose2: &Pose) -> bool {
-    let mut found = false;
-    traverse(mesh1, pose1, mesh2, pose2, &mut |_, _| {
-        found = true;
-        false
-    });
-    found
+    intersecting_leaves(mesh1, pose1, mesh2, pose2, None).is_some()
+}
+
+/// [`collide`] that names the intersecting pair it found (leaf positions of the two
+/// hierarchies), trying `hint` (such a pair from a nearby configuration) first: the
+/// penetration depth's samples along a direction mostly keep one intersecting pair from one
+/// sample to the next. The same verdict as [`collide`]: a hinted pair counts only when the
+/// same exact test finds it intersecting at these poses.
+pub(crate) fn intersecting_leaves(
+    mesh1: &TriMesh,
+    pose1: &Pose,
+    mesh2: &TriMesh,
+    pose2: &Pose,
+    hint: Option<(u32, u32)>,
+) -> Option<(u32, u32)> {
+    let (bvh1, bvh2) = (mesh1.bvh(), mesh2.bvh());
+    if let Some((l1, l2)) = hint {
+        if let (Some(t1), Some(t2)) = (
+            bvh1.leaf_triangles().get(l1 as usize),
+            bvh2.leaf_triangles().get(l2 as usize),
+        ) {
+            let pos12 = pose1.inv_mul(pose2);
+            let t2 = t2.map(|p| pos12.rotation * p + pos12.translation);
+            if intersect_triangle_triangle(t1, &t2) {
+                return Some((l1, l2));
+            }
+        }
+    }
+    // Then the subtrees of the hint's neighbourhood, then everything.
+    let starts = hint.map(|(l1, l2)| (ancestor(bvh1, l1, LOCAL), ancestor(bvh2, l2, LOCAL)));
+    for start in starts.into_iter().chain([(0, 0)]) {
+        let mut found = None;
+        traverse(mesh1, pose1, mesh2, pose2, start, &mut |l1, l2| {
+            found = Some((l1, l2));
+            false
+        });
+        if found.is_some() {
+            return found;
+        }
+    }
+    None
+}
+
+/// Triangles (on each side) of the neighbourhood around a hint that [`intersecting_leaves`]
+/// searches before the whole hierarchies. Measured on knot2.8k penetration depths at 1% and
+/// 20% of the radius (`examples/profile_depth.rs`): the search after a missed hint took
+/// 8.3 / 10.9 us on average from the roots, 5.4 / 7.4 us with 64, 5.5 / 8.1 with 16, 6.2 / 8.1
+/// with 256, 11.5 / 10.7 with 1024 (one noisy run each).
+const LOCAL: usize = 64;
+
+/// The largest subtree of at most `max` triangles holding leaf position `leaf` (the leaf's
+/// node when `max` is 0 or 1).
+fn ancestor(bvh: &crate::bvh::Bvh, leaf: u32, max: usize) -> u32 {
+    let nodes = bvh.nodes();
+    let mut n = 0u32;
+    loop {
+        let node = &nodes[n as usize];
+        if node.is_leaf() || node.leaf_range().len() <= max {
+            return n;
+        }
+        let (left, right) = node.children(n);
+        n = if nodes[left as usize].leaf_range().contains(&(leaf as usize)) {
+            left
+        } else {
+            right
+        };
+    }
 }
 
 /// [`collide`] for every `(pose1, pose2)` in `poses`, in parallel (rayon); results in input
@@ -39,15 +100,17 @@ pub fn collide_pairs(
     pose2: &Pose,
 ) -> Vec<[usize; 2]> {
     let mut pairs = Vec::new();
-    traverse(mesh1, pose1, mesh2, pose2, &mut |i, j| {
-        pairs.push([i, j]);
+    let (bvh1, bvh2) = (mesh1.bvh(), mesh2.bvh());
+    traverse(mesh1, pose1, mesh2, pose2, (0, 0), &mut |l1, l2| {
+        pairs.push([bvh1.triangle_index(l1), bvh2.triangle_index(l2)]);
         true
     });
     pairs.sort_unstable();
     pairs
 }
 
-/// Calls `on_pair` for intersecting triangle pairs until it returns false.
+/// Calls `on_pair` with the leaf positions of intersecting triangle pairs until it returns
+/// false.
 ///
 /// A pair is on the stack only once its volumes are known to overlap (within the slack); when
 /// two internal volumes meet, both are split and the four child pairs bounded together.
@@ -56,7 +119,8 @@ fn traverse(
     pose1: &Pose,
     mesh2: &TriMesh,
     pose2: &Pose,
-    on_pair: &mut dyn FnMut(usize, usize) -> bool,
+    (root1, root2): (u32, u32),
+    on_pair: &mut dyn FnMut(u32, u32) -> bool,
 ) {
     let pos12 = pose1.inv_mul(pose2);
     let (rot12, trans12) = (pos12.rotation, pos12.translation);
@@ -69,15 +133,12 @@ fn traverse(
         + bvh2.root().center.length();
     let slack = 1e-13 * scale;
     let apart = |a: &Rss, b: &Rss, rel: &RelativeRss| rss_separation(a, b, rel, slack).0 > slack;
-    if apart(
-        &nodes1[0].rss,
-        &nodes2[0].rss,
-        &RelativeRss::new(&nodes1[0].rss, &nodes2[0].rss, &rot12, trans12),
-    ) {
+    let (a, b) = (&nodes1[root1 as usize].rss, &nodes2[root2 as usize].rss);
+    if apart(a, b, &RelativeRss::new(a, b, &rot12, trans12)) {
         return;
     }
     let lanes = Lanes4::detect();
-    let mut stack: Vec<(u32, u32)> = vec![(0, 0)];
+    let mut stack: Vec<(u32, u32)> = vec![(root1, root2)];
     while let Some((n1, n2)) = stack.pop() {
         let Some(e) = Expansion::of(nodes1, n1, nodes2, n2) else {
             let (l1, l2) = (
@@ -86,9 +147,7 @@ fn traverse(
             );
             let t1 = &bvh1.leaf_triangles()[l1 as usize];
             let t2 = bvh2.leaf_triangles()[l2 as usize].map(|p| rot12 * p + trans12);
-            if intersect_triangle_triangle(t1, &t2)
-                && !on_pair(bvh1.triangle_index(l1), bvh2.triangle_index(l2))
-            {
+            if intersect_triangle_triangle(t1, &t2) && !on_pair(l1, l2) {
                 return;
             }
             continue;
@@ -103,5 +162,83 @@ fn traverse(
                 stack.push(e.pair(k));
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::Vec3;
+    use crate::mesh;
+    use rand::{Rng, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
+
+    /// Every leaf pair of the two hierarchies that the exact test finds intersecting.
+    fn brute(m1: &TriMesh, p1: &Pose, m2: &TriMesh, p2: &Pose) -> Vec<(u32, u32)> {
+        let pos12 = p1.inv_mul(p2);
+        let (t1, t2) = (m1.bvh().leaf_triangles(), m2.bvh().leaf_triangles());
+        let mut out = Vec::new();
+        for (i, a) in t1.iter().enumerate() {
+            for (j, b) in t2.iter().enumerate() {
+                let b = b.map(|p| pos12.rotation * p + pos12.translation);
+                if intersect_triangle_triangle(a, &b) {
+                    out.push((i as u32, j as u32));
+                }
+            }
+        }
+        out
+    }
+
+    /// `intersecting_leaves` against brute force over all triangle pairs, on knots at random
+    /// poses walked in small steps (the hint is the pair found at the step before, as the
+    /// penetration depth's samples use it), with no hint, and with random hints (mostly
+    /// wrong, some out of range): the same verdict as brute force every time, and a named pair
+    /// is one brute force lists.
+    #[test]
+    fn hinted_search_matches_brute_force() {
+        let mut rng = ChaCha8Rng::seed_from_u64(77);
+        let (a, b) = (
+            mesh::torus_knot(60, 6).unwrap_or_else(|e| unreachable!("{e}")),
+            mesh::torus_knot(40, 5).unwrap_or_else(|e| unreachable!("{e}")),
+        );
+        let unit = |rng: &mut ChaCha8Rng| {
+            Vec3::new(
+                rng.random_range(-1.0..1.0),
+                rng.random_range(-1.0..1.0),
+                rng.random_range(-1.0..1.0),
+            )
+            .try_normalize()
+            .unwrap_or(Vec3::X)
+        };
+        let (n1, n2) = (a.num_triangles() as u32, b.num_triangles() as u32);
+        let (mut hits, mut free) = (0, 0);
+        // 40 steps from the same centre to well apart.
+        let step = (a.bounding_radius() + b.bounding_radius()) / 25.0;
+        for _ in 0..12 {
+            let d = unit(&mut rng);
+            let axis = unit(&mut rng);
+            let angle = rng.random_range(0.0..6.0);
+            let mut hint = None;
+            for k in 0..40 {
+                let p2 = Pose::from_axis_angle(axis, angle, d * (step * k as f64));
+                let truth = brute(&a, &Pose::IDENTITY, &b, &p2);
+                let random = (rng.random_range(0..n1 + 2), rng.random_range(0..n2 + 2));
+                for h in [hint, None, Some(random)] {
+                    let got = intersecting_leaves(&a, &Pose::IDENTITY, &b, &p2, h);
+                    assert_eq!(got.is_some(), !truth.is_empty(), "step {k} hint {h:?}");
+                    if let Some(pair) = got {
+                        assert!(truth.contains(&pair), "{pair:?} does not intersect");
+                    }
+                }
+                let found = intersecting_leaves(&a, &Pose::IDENTITY, &b, &p2, hint);
+                if found.is_some() {
+                    hits += 1;
+                    hint = found;
+                } else {
+                    free += 1;
+                }
+            }
+        }
+        assert!(hits > 50 && free > 50, "{hits} intersecting, {free} free");
     }
 }

@@ -22,7 +22,8 @@ use crate::TriMesh;
 /// Largest `candidates x vertices` the exact path takes on (above it, the local search).
 pub const MAX_WORK: usize = 50_000_000;
 
-/// A convex polytope's face normals and edge directions (body frame, unit), with its vertices.
+/// A convex polytope's face normals and edge directions (body frame, unit).
+#[derive(Clone, Debug)]
 pub(crate) struct Polytope {
     normals: Vec<Vec3>,
     edges: Vec<Vec3>,

@@ -36,6 +36,13 @@
 //!    the continuous query returns, one per out-projection: a deviation) are tried shortest
 //!    first, each by out-projecting along its direction; the first shorter touching
 //!    translation is accepted, so the depth never grows, and the iteration ends when none is.
+//! 4. **Polish.** The best translation is out-projected once more along its own line with the
+//!    tolerance `min(tolerance, 1e-3 depth)` ([`polish`]): the gap it leaves is then at most a
+//!    thousandth of the depth, not of the radius.
+//!
+//! Every `collide` of the samples first tries an intersecting triangle pair of a nearby
+//! configuration (that direction's previous sample; the pose's own at first): same verdicts,
+//! a quarter off knot2.8k at 1% of the radius.
 //!
 //! The result is a local optimum, an upper bound on the true depth (a translation that does
 //! separate the bodies): on random overlapping boxes it is within 0.17% of the exact depth at
@@ -47,7 +54,7 @@
 use crate::error::ContactError;
 use crate::math::{Pose, Vec3};
 use crate::motion::Motion;
-use crate::query::collide::collide;
+use crate::query::collide::intersecting_leaves;
 use crate::query::contact_time::{
     advance, effective_tolerance, finish, ContactCache, ContactOptions, Ends, Path,
 };
@@ -58,8 +65,9 @@ use crate::TriMesh;
 /// Options of [`penetration_depth`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct DepthOptions {
-    /// Distance tolerance of the touching configuration (model units, > 0). `None`: the time
-    /// of contact's default, `1e-3` of the smaller bounding radius.
+    /// Distance tolerance of the touching configurations of the search (model units, > 0).
+    /// `None`: the time of contact's default, `1e-3` of the smaller bounding radius. The
+    /// answer's own gap is at most `min(tolerance, 1e-3 depth)` (the polish, module docs).
     pub tolerance: Option<f64>,
     /// Refinement iterations at most. Default 32.
     pub max_iterations: usize,
@@ -139,9 +147,18 @@ fn sphere_directions(n: usize) -> Vec<Vec3> {
         .collect()
 }
 
-/// Whether the bodies penetrate: surfaces intersect, or one lies inside the other.
-fn penetrating(mesh1: &TriMesh, pose1: &Pose, mesh2: &TriMesh, pose2: &Pose) -> bool {
-    if collide(mesh1, pose1, mesh2, pose2) {
+/// Whether the bodies penetrate: surfaces intersect, or one lies inside the other. `hint`: an
+/// intersecting leaf pair of a nearby configuration, tried first, and replaced by the pair
+/// found here (see [`intersecting_leaves`]; the same verdict either way).
+fn penetrating(
+    mesh1: &TriMesh,
+    pose1: &Pose,
+    mesh2: &TriMesh,
+    pose2: &Pose,
+    hint: &mut Option<(u32, u32)>,
+) -> bool {
+    if let Some(pair) = intersecting_leaves(mesh1, pose1, mesh2, pose2, *hint) {
+        *hint = Some(pair);
         return true;
     }
     // A corner of each in the other's frame.
@@ -193,6 +210,7 @@ fn out_project(
     d: Vec3,
     far: f64,
     options: &ContactOptions,
+    mut hint: Option<(u32, u32)>,
 ) -> Result<Option<Touch>, ContactError> {
     let Some(d) = d.try_normalize() else {
         return Ok(None);
@@ -202,7 +220,7 @@ fn out_project(
     // far out along d only the outside is reachable).
     for k in 1..=RAY_SAMPLES {
         let s = sample(far, k);
-        if !penetrating(mesh1, pose1, mesh2, &shifted(pose2, d * s)) {
+        if !penetrating(mesh1, pose1, mesh2, &shifted(pose2, d * s), &mut hint) {
             return Ok(come_back(mesh1, pose1, mesh2, pose2, d, s, options)?
                 .map(|p| complete(mesh1, pose1, mesh2, p)));
         }
@@ -264,8 +282,11 @@ fn shortest_seeds(
     seeds: &[Vec3],
     far: f64,
     options: &ContactOptions,
+    hint: Option<(u32, u32)>,
 ) -> Result<Vec<Pending>, ContactError> {
     let dirs: Vec<Option<Vec3>> = seeds.iter().map(|d| d.try_normalize()).collect();
+    // Each direction's last intersecting pair, the pose's own at first.
+    let mut hints = vec![hint; dirs.len()];
     let mut alive: Vec<usize> = (0..dirs.len()).filter(|&i| dirs[i].is_some()).collect();
     let mut kept: Vec<(usize, Pending)> = Vec::new();
     for k in 1..=RAY_SAMPLES {
@@ -273,7 +294,7 @@ fn shortest_seeds(
         let mut still_alive = Vec::with_capacity(alive.len());
         for &i in &alive {
             let Some(d) = dirs[i] else { continue };
-            if penetrating(mesh1, pose1, mesh2, &shifted(pose2, d * s)) {
+            if penetrating(mesh1, pose1, mesh2, &shifted(pose2, d * s), &mut hints[i]) {
                 let bound = if kept.len() < STARTS {
                     f64::INFINITY
                 } else {
@@ -369,6 +390,7 @@ fn refine(
     far: f64,
     contact_options: &ContactOptions,
     max_iterations: usize,
+    hint: Option<(u32, u32)>,
 ) -> Result<(Touch, usize, DepthStatus), ContactError> {
     let mut status = DepthStatus::IterationLimit;
     let mut iterations = 0;
@@ -389,7 +411,9 @@ fn refine(
             } else {
                 best.normal
             };
-            if let Some(c) = out_project(mesh1, pose1, mesh2, pose2, dir, far, contact_options)? {
+            if let Some(c) =
+                out_project(mesh1, pose1, mesh2, pose2, dir, far, contact_options, hint)?
+            {
                 remember(&mut planes, (c.normal, c.normal.dot(c.translation)));
                 if c.translation.length() < t.length() * (1.0 - 1e-9) {
                     best = c;
@@ -404,6 +428,54 @@ fn refine(
         }
     }
     Ok((best, iterations, status))
+}
+
+/// The final gap as a fraction of the depth (see [`polish`]).
+const POLISH: f64 = 1e-3;
+
+/// The best touching translation brought closer: its out-projection ends where the bodies are
+/// within the tolerance, which at a shallow penetration is a large part of the depth (at 1%
+/// of the radius, the default tolerance of 1e-3 R left gaps of 1 to 14% of the depth on
+/// knot2.8k, 8% at the median). Body 2 comes back along the same line from there with the
+/// tolerance `min(tolerance, POLISH depth)`: a shorter translation that still ends apart
+/// (the continuous query's contract, from a start that does not penetrate). Where that query
+/// cannot finish (its iteration cap, or a tolerance below rounding), the translation is kept.
+fn polish(
+    mesh1: &TriMesh,
+    pose1: &Pose,
+    mesh2: &TriMesh,
+    pose2: &Pose,
+    best: Touch,
+    options: &ContactOptions,
+) -> Result<Touch, ContactError> {
+    let t = best.translation;
+    let s = t.length();
+    let delta = effective_tolerance(
+        mesh1,
+        &Motion::stationary(*pose1),
+        mesh2,
+        &Motion::stationary(*pose2),
+        options,
+    );
+    let fine = (POLISH * s).min(delta);
+    let Some(d) = t.try_normalize() else {
+        return Ok(best);
+    };
+    if fine <= 1e-12 * (s + pose2.translation.length() + pose1.translation.length()) {
+        return Ok(best);
+    }
+    let fine_options = ContactOptions {
+        tolerance: Some(fine),
+        ..*options
+    };
+    match come_back(mesh1, pose1, mesh2, pose2, d, s, &fine_options) {
+        Ok(Some(p)) => {
+            let c = complete(mesh1, pose1, mesh2, p);
+            Ok(if c.translation.length() <= s { c } else { best })
+        }
+        Ok(None) | Err(ContactError::IterationLimit { .. }) => Ok(best),
+        Err(e) => Err(e),
+    }
 }
 
 /// Seeds refined: the shortest few touching translations of the out-projections.
@@ -445,7 +517,7 @@ pub fn penetration_depth(
         exact: true,
     };
     let polytopes = if options.exact_convex {
-        convex::polytope(mesh1).zip(convex::polytope(mesh2))
+        mesh1.convex_polytope().zip(mesh2.convex_polytope())
     } else {
         None
     };
@@ -453,7 +525,7 @@ pub fn penetration_depth(
         // Convex polytopes overlap exactly when every candidate axis shows an overlap: this
         // decides "penetrating" without the winding number (whose inside needs the triangles
         // oriented alike, which a convex hull's need not be).
-        if let Some((o, n, sa, sb)) = convex::exact_depth(mesh1, &a, pose1, mesh2, &b, pose2) {
+        if let Some((o, n, sa, sb)) = convex::exact_depth(mesh1, a, pose1, mesh2, b, pose2) {
             if o <= 0.0 {
                 return Ok(separated);
             }
@@ -478,7 +550,9 @@ pub fn penetration_depth(
             });
         }
     }
-    if !penetrating(mesh1, pose1, mesh2, pose2) {
+    // An intersecting pair of the pose itself: the first guess of every sample near it.
+    let mut hint = None;
+    if !penetrating(mesh1, pose1, mesh2, pose2, &mut hint) {
         return Ok(separated);
     }
     let c1 = pose1.transform_point(mesh1.bvh().root().center);
@@ -499,7 +573,16 @@ pub fn penetration_depth(
         }
     }
     seeds.extend(sphere_directions(options.directions));
-    let kept = shortest_seeds(mesh1, pose1, mesh2, pose2, &seeds, far, &contact_options)?;
+    let kept = shortest_seeds(
+        mesh1,
+        pose1,
+        mesh2,
+        pose2,
+        &seeds,
+        far,
+        &contact_options,
+        hint,
+    )?;
     let touches: Vec<Touch> = kept
         .into_iter()
         .map(|p| complete(mesh1, pose1, mesh2, p))
@@ -515,6 +598,7 @@ pub fn penetration_depth(
             far,
             &contact_options,
             options.max_iterations,
+            hint,
         )?;
         if result
             .as_ref()
@@ -530,6 +614,7 @@ pub fn penetration_depth(
             time_reached: 0.0,
         });
     };
+    let best = polish(mesh1, pose1, mesh2, pose2, best, &contact_options)?;
     let depth = best.translation.length();
     Ok(PenetrationDepth {
         depth,
