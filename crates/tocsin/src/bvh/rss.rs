@@ -161,10 +161,12 @@ impl BSide {
 /// A lower bound on the distance between two RSS (0 when they may overlap) and the unit
 /// direction, in `a`'s frame, along which it was found (pointing from `a` towards `b`).
 ///
-/// The bound is the largest gap `|n.t| - extent_a(n) - extent_b(n)` over three candidate
-/// separating axes: the two normals, and the near-points axis: `b`'s centre clamped to `a`'s
-/// rectangle, that point clamped to `b`'s rectangle, and that one clamped back to `a`'s; the axis
-/// runs between the last two points. That is two and a half steps of alternating projection
+/// The bound is the largest gap `|n.t| - extent_a(n) - extent_b(n)` over four candidate
+/// separating axes: the two normals, the near-points axis (`b`'s centre clamped to `a`'s
+/// rectangle, that point clamped to `b`'s rectangle, and that one clamped back to `a`'s; the
+/// axis runs between the last two points), and the common perpendicular of the two long edges
+/// (`a_x x b_x`), which gives the exact distance of two slivers that cross far from their
+/// centres, where the first three fail (ARCHITECTURE.md). That is two and a half steps of alternating projection
 /// towards the closest points of the two rectangles, so the axis approaches the direction of
 /// the exact distance (exact for two balls, and for a rectangle and a ball). By convex duality
 /// every unit direction gives a valid lower bound.
@@ -208,7 +210,14 @@ pub(crate) fn rss_separation(a: &Rss, b: &Rss, rel: &RelativeRss, cutoff: f64) -
         - lb1 * u.dot(b1).abs();
     let ul = u.length_squared().max(f64::MIN_POSITIVE).sqrt();
     let near = gap_u / ul;
-    let (gap, axis) = if near > normal_a.max(normal_b) && u != Vec3::ZERO {
+    // The common perpendicular of the two long edges (`a`'s x axis cross `b`'s).
+    let e = Vec3::new(0.0, -b0.z, b0.y);
+    let et = e.dot(t);
+    let el = e.length_squared().max(f64::MIN_POSITIVE).sqrt();
+    let cross = (et.abs() - la1 * b0.z.abs() - lb1 * e.dot(b1).abs()) / el;
+    let (gap, axis) = if cross > near.max(normal_a).max(normal_b) && e != Vec3::ZERO {
+        (cross, e / el * et.signum())
+    } else if near > normal_a.max(normal_b) && u != Vec3::ZERO {
         (near, u / ul * ut.signum())
     } else if normal_a >= normal_b {
         (normal_a, Vec3::Z * t.z.signum())

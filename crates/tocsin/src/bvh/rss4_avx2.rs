@@ -10,6 +10,27 @@ use super::{LaneBounds, Rss};
 use crate::math::{Mat3, Vec3};
 use std::arch::x86_64::*;
 
+/// `[f(0), f(1), f(2)]` written out: `array::map` with these closures was left out of line
+/// once the kernel grew (its instructions doubled, with copies of the arrays).
+macro_rules! three {
+    (|$i:ident| $e:expr) => {
+        [
+            {
+                let $i = 0;
+                $e
+            },
+            {
+                let $i = 1;
+                $e
+            },
+            {
+                let $i = 2;
+                $e
+            },
+        ]
+    };
+}
+
 /// Lower bounds on the distances of the pairs `(a[i], b[j])` in lane `2 i + j` (0 where they
 /// may overlap); `a` in mesh 1's frame, `b` in mesh 2's, mapped into mesh 1's by `rot12`,
 /// `trans12`. Needs a CPU with AVX2 and FMA.
@@ -59,9 +80,9 @@ pub(super) fn bounds(a: [&Rss; 2], b: [&Rss; 2], rot12: &Mat3, trans12: Vec3) ->
             _mm256_fmadd_pd(m(i, 1), v[1], _mm256_mul_pd(m(i, 0), v[0])),
         )
     };
-    let bx: [[__m256d; 3]; 3] = [0, 1, 2].map(|c| [0, 1, 2].map(|i| carry(&braw[c], i)));
+    let bx: [[__m256d; 3]; 3] = three!(|c| three!(|i| carry(&braw[c], i)));
     let tr = [trans12.x, trans12.y, trans12.z];
-    let d: [__m256d; 3] = [0, 1, 2].map(|i| {
+    let d: [__m256d; 3] = three!(|i| {
         _mm256_sub_pd(
             _mm256_add_pd(carry(&bc_raw, i), _mm256_set1_pd(tr[i])),
             ac[i],
@@ -75,7 +96,7 @@ pub(super) fn bounds(a: [&Rss; 2], b: [&Rss; 2], rot12: &Mat3, trans12: Vec3) ->
         )
     };
     // r[i][j] = a_i . b_j; t = b's centre in a's frame.
-    let r: [[__m256d; 3]; 3] = [0, 1, 2].map(|i| [0, 1, 2].map(|j| dot(&ax[i], &bx[j])));
+    let r: [[__m256d; 3]; 3] = three!(|i| three!(|j| dot(&ax[i], &bx[j])));
     let t = [dot(&ax[0], &d), dot(&ax[1], &d), dot(&ax[2], &d)];
     let sign = _mm256_set1_pd(-0.0);
     let abs = |x: __m256d| _mm256_andnot_pd(sign, x);
@@ -99,7 +120,7 @@ pub(super) fn bounds(a: [&Rss; 2], b: [&Rss; 2], rot12: &Mat3, trans12: Vec3) ->
     let in_b = |j: usize| dot(&[r[0][j], r[1][j], r[2][j]], &q);
     let pbl = [clamp(in_b(0), lb0), clamp(in_b(1), lb1)];
     let pb: [__m256d; 3] =
-        [0, 1, 2].map(|i| _mm256_fmadd_pd(r[i][1], pbl[1], _mm256_fmadd_pd(r[i][0], pbl[0], t[i])));
+        three!(|i| _mm256_fmadd_pd(r[i][1], pbl[1], _mm256_fmadd_pd(r[i][0], pbl[0], t[i])));
     let u = [
         _mm256_sub_pd(pb[0], clamp(pb[0], la0)),
         _mm256_sub_pd(pb[1], clamp(pb[1], la1)),
@@ -111,11 +132,27 @@ pub(super) fn bounds(a: [&Rss; 2], b: [&Rss; 2], rot12: &Mat3, trans12: Vec3) ->
     let ul2 = _mm256_max_pd(dot(&u, &u), _mm256_set1_pd(f64::MIN_POSITIVE));
     let inv = _mm256_div_pd(_mm256_set1_pd(1.0), _mm256_sqrt_pd(ul2));
     let near = _mm256_mul_pd(gap_u, inv);
-    let g = _mm256_max_pd(_mm256_max_pd(normal_a, normal_b), near);
+    // The common perpendicular of the long edges, e = (0, -r20, r10) in a's frame, as in
+    // `rss_separation4`.
+    let et = _mm256_fmsub_pd(r[1][0], t[2], _mm256_mul_pd(r[2][0], t[1]));
+    let e_dot_by = _mm256_fmsub_pd(r[1][0], r[2][1], _mm256_mul_pd(r[2][0], r[1][1]));
+    let el2 = _mm256_fmadd_pd(r[1][0], r[1][0], _mm256_mul_pd(r[2][0], r[2][0]));
+    let inv_e = _mm256_div_pd(
+        _mm256_set1_pd(1.0),
+        _mm256_sqrt_pd(_mm256_max_pd(el2, _mm256_set1_pd(f64::MIN_POSITIVE))),
+    );
+    let cross = _mm256_mul_pd(
+        fnma(lb1, abs(e_dot_by), fnma(la1, abs(r[2][0]), abs(et))),
+        inv_e,
+    );
+    let g = _mm256_max_pd(
+        _mm256_max_pd(normal_a, normal_b),
+        _mm256_max_pd(near, cross),
+    );
     let radii = _mm256_add_pd(sa(|r| r.radius), sb(|r| r.radius));
     let gap = _mm256_max_pd(_mm256_sub_pd(g, radii), _mm256_setzero_pd());
     // The near-points axis in mesh 1's frame, unit length.
-    let axis: [__m256d; 3] = [0, 1, 2].map(|i| {
+    let axis: [__m256d; 3] = three!(|i| {
         _mm256_mul_pd(
             _mm256_fmadd_pd(
                 ax[2][i],
