@@ -36,6 +36,11 @@
 //!    the continuous query returns, one per out-projection: a deviation) are tried shortest
 //!    first, each by out-projecting along its direction; the first shorter touching
 //!    translation is accepted, so the depth never grows, and the iteration ends when none is.
+//!    A candidate whose samples still penetrate at the current length is dropped there, before
+//!    its continuous query (it could not be shorter; its contact plane is then not kept): at
+//!    20% of the radius 640 of a knot2.8k's 842 continuous queries were the refinement's, and
+//!    the median went from 9.5 to 7.1 ms; the depths at 1% and 5% were unchanged, at 20%
+//!    within 0.65% either way, and up to 18% shorter on knot34k.
 //! 4. **Polish.** The best translation is out-projected once more along its own line with the
 //!    tolerance `min(tolerance, 1e-3 depth)` ([`polish`]): the gap it leaves is then at most a
 //!    thousandth of the depth, not of the radius.
@@ -200,7 +205,8 @@ impl Pending {
 }
 
 /// The out-projection along `d` (its direction) completed with its witnesses: the first free
-/// sample, then the continuous query back from it.
+/// sample, then the continuous query back from it; `None` as soon as a sample at or beyond
+/// `beat` still penetrates (its translation could not be shorter than `beat`).
 #[allow(clippy::too_many_arguments)]
 fn out_project(
     mesh1: &TriMesh,
@@ -211,6 +217,7 @@ fn out_project(
     far: f64,
     options: &ContactOptions,
     mut hint: Option<(u32, u32)>,
+    beat: f64,
 ) -> Result<Option<Touch>, ContactError> {
     let Some(d) = d.try_normalize() else {
         return Ok(None);
@@ -223,6 +230,9 @@ fn out_project(
         if !penetrating(mesh1, pose1, mesh2, &shifted(pose2, d * s), &mut hint) {
             return Ok(come_back(mesh1, pose1, mesh2, pose2, d, s, options)?
                 .map(|p| complete(mesh1, pose1, mesh2, p)));
+        }
+        if s >= beat {
+            return Ok(None);
         }
     }
     Ok(None)
@@ -411,9 +421,17 @@ fn refine(
             } else {
                 best.normal
             };
-            if let Some(c) =
-                out_project(mesh1, pose1, mesh2, pose2, dir, far, contact_options, hint)?
-            {
+            if let Some(c) = out_project(
+                mesh1,
+                pose1,
+                mesh2,
+                pose2,
+                dir,
+                far,
+                contact_options,
+                hint,
+                t.length() * (1.0 - 1e-9),
+            )? {
                 remember(&mut planes, (c.normal, c.normal.dot(c.translation)));
                 if c.translation.length() < t.length() * (1.0 - 1e-9) {
                     best = c;
