@@ -26,6 +26,7 @@ import math
 import os
 import pathlib
 import platform
+import re
 import statistics
 import tarfile
 import time
@@ -44,8 +45,13 @@ def vamp_resources():
     root = CACHE / f"vamp_planner-{VERSION}"
     if not (root / "resources").exists():
         CACHE.mkdir(parents=True, exist_ok=True)
-        meta = json.load(urllib.request.urlopen(f"https://pypi.org/pypi/vamp-planner/{VERSION}/json", timeout=60))
-        url = next(f["url"] for f in meta["urls"] if f["filename"].endswith(".tar.gz"))
+        # The simple index (PEP 503): package mirrors serve it where the JSON API is absent.
+        page = urllib.request.urlopen("https://pypi.org/simple/vamp-planner/", timeout=60).read().decode()
+        url = next(
+            m.split("#")[0]
+            for m in re.findall(r'href="([^"]+)"', page)
+            if m.split("#")[0].endswith((f"vamp_planner-{VERSION}.tar.gz", f"vamp-planner-{VERSION}.tar.gz"))
+        )
         data = urllib.request.urlopen(url, timeout=300).read()
         with tarfile.open(fileobj=io.BytesIO(data), mode="r:gz") as tar:
             members = [m for m in tar.getmembers() if "/resources/" in m.name]
