@@ -228,6 +228,41 @@ fn knots_every_motion_kind() {
     }
 }
 
+/// A knot of long slivers (12 x 160 rings: triangles about 40 times longer than wide, crossing
+/// at every contact far from their centres, where the RSS bound needs the long edges'
+/// perpendicular), every motion kind, against sampling.
+#[test]
+fn sliver_knots_every_motion_kind() {
+    let mut rng = rng(52);
+    let knot = mesh::torus_knot(12, 160).unwrap();
+    let mut hits = 0;
+    for case in 0..9 {
+        let kind = case % 3;
+        let dir = random_unit(&mut rng);
+        let s1 = Pose {
+            rotation: random_rotation(&mut rng),
+            translation: -12.0 * dir,
+        };
+        let e1 = Pose {
+            rotation: random_rotation(&mut rng),
+            translation: 12.0 * dir + random_unit(&mut rng) * rng.random_range(0.0..16.0),
+        };
+        let mo1 = random_motion(&mut rng, kind, s1, e1);
+        hits += usize::from(check(
+            &knot,
+            &mo1,
+            &knot,
+            &Motion::stationary(Pose::IDENTITY),
+            None,
+            &format!("sliver knot case {case} kind {kind}"),
+        ));
+    }
+    assert!(
+        hits > 0 && hits < 9,
+        "contacts and misses should mix: {hits}"
+    );
+}
+
 #[test]
 fn thin_plates_at_high_speed() {
     // Two zero-thickness plates; one crosses the other in a single step: 100 samples miss it.
