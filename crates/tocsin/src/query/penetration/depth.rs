@@ -19,14 +19,16 @@
 //!    is beyond both bounding radii and the centres' distance, certainly apart), and body 2 is
 //!    translated straight back from there to where it is; the time of contact of that motion is
 //!    where it first touches body 1 coming from the free side: a collision-free, touching
-//!    translation `t = s d`. The shortest three are refined. Three savings change no answer:
+//!    translation `t = s d`. The shortest three are refined. Four savings change no answer:
 //!    a direction is dropped as soon as one of its samples still penetrates beyond the third
 //!    shortest translation found so far (the motion back from the free sample passes through
 //!    that sample, so its translation would be longer); the directions are sampled breadth
 //!    first (every live direction's k-th sample before any next one), so the directions that
-//!    free up soonest set that bound early; and the witnesses (the continuous query's final
-//!    exact distance) are computed only for the three kept (knot2.8k at 5%: 8.1 to 2.5 ms,
-//!    the same depths bit for bit).
+//!    free up soonest set that bound early; the continuous queries of the directions freed at
+//!    one sample run after that round's samples, and not at all once the round's last
+//!    penetrating sample lies beyond the bound; and the witnesses (the continuous query's
+//!    final exact distance) are computed only for the three kept (knot2.8k at 5%: 8.1 to
+//!    2.5 ms, the same depths bit for bit).
 //! 3. **Local refinement (in-projection, then out-projection).** Each out-projection ends at a
 //!    touching translation `t` with a contact normal `n` (from body 1 to body 2): near it the
 //!    contact space is the half-space `n . (x - t) >= 0`. The last four such planes stand for
@@ -299,21 +301,37 @@ fn shortest_seeds(
     let mut hints = vec![hint; dirs.len()];
     let mut alive: Vec<usize> = (0..dirs.len()).filter(|&i| dirs[i].is_some()).collect();
     let mut kept: Vec<(usize, Pending)> = Vec::new();
+    let bound = |kept: &[(usize, Pending)]| {
+        if kept.len() < STARTS {
+            f64::INFINITY
+        } else {
+            kept[STARTS - 1].1.length()
+        }
+    };
     for k in 1..=RAY_SAMPLES {
         let s = sample(far, k);
         let mut still_alive = Vec::with_capacity(alive.len());
+        // The directions that free up at this sample: their continuous queries run after the
+        // round's samples, so that the round's other frees cannot be skipped by its samples
+        // alone (below).
+        let mut freed = Vec::new();
         for &i in &alive {
             let Some(d) = dirs[i] else { continue };
             if penetrating(mesh1, pose1, mesh2, &shifted(pose2, d * s), &mut hints[i]) {
-                let bound = if kept.len() < STARTS {
-                    f64::INFINITY
-                } else {
-                    kept[STARTS - 1].1.length()
-                };
-                if s <= bound {
+                if s <= bound(&kept) {
                     still_alive.push(i);
                 }
-                continue;
+            } else {
+                freed.push((i, d));
+            }
+        }
+        // A freed direction's touching translation is at least its last penetrating sample
+        // (the motion back passes through it): beyond the third shortest, its query is skipped
+        // (knot2.8k at 1% and 5%: 4 to 6% fewer instructions, the same depths bit for bit).
+        let last = if k > 1 { sample(far, k - 1) } else { 0.0 };
+        for (i, d) in freed {
+            if last > bound(&kept) {
+                break;
             }
             if let Some(p) = come_back(mesh1, pose1, mesh2, pose2, d, s, options)? {
                 let key = (p.length(), i);
