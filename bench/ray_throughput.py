@@ -22,15 +22,11 @@ import time
 import numpy as np
 
 import tocsin
+from _common import pose, rotation
 
 
 def turn(axis, angle, t):
-    axis = np.asarray(axis, float) / np.linalg.norm(axis)
-    k = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
-    p = np.eye(4)
-    p[:3, :3] = np.eye(3) + np.sin(angle) * k + (1 - np.cos(angle)) * k @ k
-    p[:3, 3] = t
-    return p
+    return pose(rotation(axis, angle), t)
 
 
 def motions(n, seed):

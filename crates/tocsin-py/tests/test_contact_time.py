@@ -4,15 +4,11 @@ import numpy as np
 import pytest
 
 import tocsin
+from _geometry import turn
 
 
 def pose(t=(0, 0, 0), axis=(0, 0, 1), angle=0.0):
-    a = np.asarray(axis, float) / np.linalg.norm(axis)
-    k = np.array([[0, -a[2], a[1]], [a[2], 0, -a[0]], [-a[1], a[0], 0]])
-    m = np.eye(4)
-    m[:3, :3] = np.eye(3) + np.sin(angle) * k + (1 - np.cos(angle)) * k @ k
-    m[:3, 3] = t
-    return m
+    return turn(axis, angle, t)
 
 
 def first_sampled_collision(m1, mo1, m2, mo2, n=1000):

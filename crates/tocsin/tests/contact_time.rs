@@ -201,11 +201,13 @@ fn random_soups_and_motions_against_sampling() {
     );
 }
 
-#[test]
-fn knots_every_motion_kind() {
-    let mut rng = rng(51);
-    let knot = mesh::torus_knot(60, 6).unwrap();
-    for case in 0..24 {
+/// `cases` passes of `knot` (turning, every motion kind in turn) past a still copy from 12
+/// units away, ending up to `spread` off the line, each checked against sampling; the number
+/// that made contact.
+fn knot_passes(knot: &TriMesh, seed: u64, cases: usize, spread: f64, label: &str) -> usize {
+    let mut rng = rng(seed);
+    let mut hits = 0;
+    for case in 0..cases {
         let kind = case % 3;
         let dir = random_unit(&mut rng);
         let s1 = Pose {
@@ -214,18 +216,25 @@ fn knots_every_motion_kind() {
         };
         let e1 = Pose {
             rotation: random_rotation(&mut rng),
-            translation: 12.0 * dir + random_unit(&mut rng) * rng.random_range(0.0..6.0),
+            translation: 12.0 * dir + random_unit(&mut rng) * rng.random_range(0.0..spread),
         };
         let mo1 = random_motion(&mut rng, kind, s1, e1);
-        check(
-            &knot,
+        hits += usize::from(check(
+            knot,
             &mo1,
-            &knot,
+            knot,
             &Motion::stationary(Pose::IDENTITY),
             None,
-            &format!("knot case {case} kind {kind}"),
-        );
+            &format!("{label} case {case} kind {kind}"),
+        ));
     }
+    hits
+}
+
+#[test]
+fn knots_every_motion_kind() {
+    let knot = mesh::torus_knot(60, 6).unwrap();
+    knot_passes(&knot, 51, 24, 6.0, "knot");
 }
 
 /// A knot of long slivers (12 x 160 rings: triangles about 40 times longer than wide, crossing
@@ -233,30 +242,8 @@ fn knots_every_motion_kind() {
 /// perpendicular), every motion kind, against sampling.
 #[test]
 fn sliver_knots_every_motion_kind() {
-    let mut rng = rng(52);
     let knot = mesh::torus_knot(12, 160).unwrap();
-    let mut hits = 0;
-    for case in 0..9 {
-        let kind = case % 3;
-        let dir = random_unit(&mut rng);
-        let s1 = Pose {
-            rotation: random_rotation(&mut rng),
-            translation: -12.0 * dir,
-        };
-        let e1 = Pose {
-            rotation: random_rotation(&mut rng),
-            translation: 12.0 * dir + random_unit(&mut rng) * rng.random_range(0.0..16.0),
-        };
-        let mo1 = random_motion(&mut rng, kind, s1, e1);
-        hits += usize::from(check(
-            &knot,
-            &mo1,
-            &knot,
-            &Motion::stationary(Pose::IDENTITY),
-            None,
-            &format!("sliver knot case {case} kind {kind}"),
-        ));
-    }
+    let hits = knot_passes(&knot, 52, 9, 16.0, "sliver knot");
     assert!(
         hits > 0 && hits < 9,
         "contacts and misses should mix: {hits}"
