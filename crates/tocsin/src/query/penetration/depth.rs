@@ -471,7 +471,7 @@ const POLISH: f64 = 1e-3;
 
 /// The best touching translation brought closer: its out-projection ends where the bodies are
 /// within the tolerance, which at a shallow penetration is a large part of the depth (at 1%
-/// of the radius, the default tolerance of 1e-3 R left gaps of 1 to 14% of the depth on
+/// of the radius, the default tolerance of 1e-3 R left gaps of 0.2 to 14% of the depth on
 /// knot2.8k, 8% at the median). Body 2 comes back along the same line from there with the
 /// tolerance `min(tolerance, POLISH depth)`: a shorter translation that still ends apart
 /// (the continuous query's contract, from a start that does not penetrate). Where that query
