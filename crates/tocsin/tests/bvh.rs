@@ -119,3 +119,45 @@ fn build_is_deterministic() {
     };
     assert_eq!(key(&a), key(&b));
 }
+
+/// A tube of slivers that each span its whole length (`n_around` quads, one ring).
+fn sliver_tube(n_around: usize, length: f64) -> TriMesh {
+    let mut v = Vec::new();
+    for h in [-0.5 * length, 0.5 * length] {
+        for j in 0..n_around {
+            let a = std::f64::consts::TAU * j as f64 / n_around as f64;
+            v.push(Vec3::new(a.cos(), a.sin(), h));
+        }
+    }
+    let n = n_around as u32;
+    let f = (0..n)
+        .flat_map(|j| {
+            let q = (j + 1) % n;
+            [[j, q, q + n], [j, q + n, j + n]]
+        })
+        .collect();
+    TriMesh::new(v, f).unwrap()
+}
+
+#[test]
+fn slivers_spanning_a_tube_are_split_across_it() {
+    // Split at the mean centroid along the tube (its first principal axis), each child would
+    // again hold a triangle of every quad and span the whole tube; the build must split across.
+    for n_around in [16, 64, 600] {
+        let m = sliver_tube(n_around, 40.0);
+        check(&m);
+        let nodes = m.bvh().nodes();
+        let (l, r) = nodes[0].children(0);
+        let (a, b) = (nodes[l as usize].rss, nodes[r as usize].rss);
+        let apart = (a.center - b.center).truncate();
+        assert!(
+            apart.length() > 0.5,
+            "{n_around} slivers: children centred {} and {} (not split across the tube)",
+            a.center,
+            b.center
+        );
+    }
+    // Ordinary meshes and fans of long thin triangles keep their containment.
+    check(&mesh::torus_knot(12, 240).unwrap());
+    check(&mesh::sphere(1.0, 64, 128).unwrap());
+}

@@ -1,14 +1,14 @@
 //! Top-down construction, in parallel over subtrees (rayon), into the preorder flat array.
 //!
 //! Each node: vertex covariance of its triangles -> principal axes -> RSS fit -> split the
-//! triangles by the mean centroid along the first axis (half and half when that leaves a side
-//! empty, e.g. duplicated triangles). The triangles' corners are partitioned in place with
+//! triangles by the mean centroid along the first axis, or another where slivers span the node
+//! ([`split_axis`]); half and half when that leaves a side empty, e.g. duplicated triangles. The triangles' corners are partitioned in place with
 //! their ids, so every pass reads memory in order and the array ends in leaf order. Subtree
 //! sizes are known in advance (`2n - 1`), so the two children write disjoint slices and the
 //! result does not depend on the thread count.
 
 use super::eigen::principal_axes;
-use super::{Bvh, CornerColumns, Node, Rss};
+use super::{Bvh, CornerColumns, Node, Rss, SplitSpread};
 use crate::math::Vec3;
 use rayon::prelude::*;
 
@@ -87,11 +87,11 @@ fn build_subtree(
     // 1M-triangle knot it builds in 0.81 s instead of 0.92 s with Jacobi at internal nodes,
     // and the distance searches on knot34k visit the same number of pairs.
     let axes = principal_axes(cov);
-    let mut rss = Rss::fit(axes, corners.iter().flatten().copied());
+    let (mut rss, spread) = Rss::fit_triangles(axes, corners);
     if refine {
         rss = refine_in_plane(rss, corners);
     }
-    let split_axis = axes.x_axis;
+    let split_axis = axes.col(split_axis(&spread));
     let threshold = 3.0 * split_axis.dot(mean);
     let n_left = match partition(corners, ids, |c| {
         split_axis.dot(c[0] + c[1] + c[2]) < threshold
@@ -127,6 +127,27 @@ fn build_subtree(
     } else {
         left();
         right();
+    }
+}
+
+/// Which of the node's principal axes to split along (0 is the first): the first, unless the
+/// triangles reach at least twice as far along it as their centroids spread (slivers spanning
+/// a segment of a tube, whose halves would each span the segment again), and another axis has
+/// its centroids spread at least twice as far as the triangles reach along it; of two such,
+/// the one where the centroids spread most. The factors of two keep ordinary meshes, and fans
+/// of long thin triangles around a pole, on the first axis (docs/BENCHMARKS.md, ninth
+/// session, has the measurements).
+fn split_axis(spread: &SplitSpread) -> usize {
+    let (c, r) = (spread.centroids, spread.reach);
+    if r.x < 2.0 * c.x {
+        return 0;
+    }
+    let fits = |k: usize| c[k] >= 2.0 * r[k];
+    match (fits(1), fits(2)) {
+        (true, true) if c.z > c.y => 2,
+        (true, _) => 1,
+        (false, true) => 2,
+        (false, false) => 0,
     }
 }
 

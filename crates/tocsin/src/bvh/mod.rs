@@ -30,7 +30,7 @@ impl TestRng {
 
 pub(crate) use projection::ColumnPair;
 pub use rss::Rss;
-pub(crate) use rss::{rss_separation, ASide, BSide, RelativeRss};
+pub(crate) use rss::{rss_separation, ASide, BSide, RelativeRss, SplitSpread};
 pub(crate) use rss4::{LaneBounds, Lanes4};
 
 /// The child pairs of expanding the node pair `(n1, n2)` when not both are leaves: each

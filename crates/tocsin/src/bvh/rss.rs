@@ -31,6 +31,18 @@ pub struct Rss {
     pub radius: f64,
 }
 
+/// How a node's triangles spread along the three axes of its volume: how far their centroids
+/// spread, and the most any one triangle reaches. Where the triangles reach farther than their
+/// centroids spread (slivers spanning a tube segment), a split along that axis leaves both
+/// halves as long as the parent.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct SplitSpread {
+    /// Largest minus smallest centroid coordinate, per axis.
+    pub centroids: Vec3,
+    /// Largest extent of one triangle, per axis.
+    pub reach: Vec3,
+}
+
 impl Rss {
     /// Fits an RSS with the given axes around `points` (mesh frame). `points` must not be empty.
     pub(crate) fn fit(axes: Mat3, points: impl Iterator<Item = Vec3> + Clone) -> Rss {
@@ -43,6 +55,48 @@ impl Rss {
             hi = hi.max(q);
             magnitude = magnitude.max(q.abs().max_element());
         }
+        Self::fit_from_bounds(axes, points, lo, hi, magnitude)
+    }
+
+    /// [`Rss::fit`] around the corners of `triangles`, with the [`SplitSpread`] of the
+    /// triangles along the three axes gathered in the same pass (the hierarchy build chooses
+    /// its split axis from it).
+    pub(crate) fn fit_triangles(axes: Mat3, triangles: &[[Vec3; 3]]) -> (Rss, SplitSpread) {
+        let rt = axes.transpose();
+        let (mut lo, mut hi) = (Vec3::splat(f64::INFINITY), Vec3::splat(f64::NEG_INFINITY));
+        let (mut c_lo, mut c_hi) = (lo, hi);
+        let mut reach = Vec3::ZERO;
+        let mut magnitude: f64 = 0.0;
+        for t in triangles {
+            let q = t.map(|p| rt * p);
+            let (t_lo, t_hi) = (q[0].min(q[1]).min(q[2]), q[0].max(q[1]).max(q[2]));
+            lo = lo.min(t_lo);
+            hi = hi.max(t_hi);
+            reach = reach.max(t_hi - t_lo);
+            let sum = q[0] + q[1] + q[2];
+            c_lo = c_lo.min(sum);
+            c_hi = c_hi.max(sum);
+            magnitude = magnitude.max(t_lo.abs().max(t_hi.abs()).max_element());
+        }
+        let rss =
+            Self::fit_from_bounds(axes, triangles.iter().flatten().copied(), lo, hi, magnitude);
+        let spread = SplitSpread {
+            centroids: (c_hi - c_lo) / 3.0,
+            reach,
+        };
+        (rss, spread)
+    }
+
+    /// The rest of a fit, given the points' bounds `lo..hi` in the frame of `axes` and their
+    /// largest coordinate magnitude in it.
+    fn fit_from_bounds(
+        axes: Mat3,
+        points: impl Iterator<Item = Vec3>,
+        lo: Vec3,
+        hi: Vec3,
+        magnitude: f64,
+    ) -> Rss {
+        let rt = axes.transpose();
         // Fit with the exact half spread, then inflate: the margin must cover rounding only.
         let radius = 0.5 * (hi.z - lo.z);
         let cz = 0.5 * (hi.z + lo.z);
