@@ -117,3 +117,42 @@ fn closed_forms_plates_and_identical_meshes() {
     assert!(same.distance <= 1e-12 && same.upper_bound <= 1e-6);
     assert!(hausdorff_distance(&knot, &Pose::IDENTITY, &knot, &Pose::IDENTITY, 0.0, true).is_err());
 }
+
+#[test]
+fn knot_against_a_moved_copy_within_the_bound_of_dense_sampling() {
+    // The hard case of the benchmark: the distance is nearly the same over the whole surface,
+    // so every triangle is refined to the error bound.
+    let knot = mesh::torus_knot(40, 5).unwrap();
+    let e = 1e-3 * knot.bounding_radius();
+    for moved in [
+        Pose::from_translation(Vec3::new(0.3, 0.1, 0.05)),
+        Pose::from_axis_angle(Vec3::new(0.2, 1.0, -0.4), 0.3, Vec3::new(-0.1, 0.2, 0.0)),
+    ] {
+        let r = hausdorff_distance(&knot, &Pose::IDENTITY, &knot, &moved, e, true).unwrap();
+        assert!(r.upper_bound - r.distance <= e * (1.0 + 1e-9));
+        let to = if r.from_first { moved } else { Pose::IDENTITY };
+        let d = point_distance(r.point1, &knot, &to);
+        assert!(
+            (d - r.distance).abs() < 1e-9,
+            "witness {d} vs {}",
+            r.distance
+        );
+        let dense = sampled(&knot, &Pose::IDENTITY, &knot, &moved, 6).max(sampled(
+            &knot,
+            &moved,
+            &knot,
+            &Pose::IDENTITY,
+            6,
+        ));
+        assert!(
+            dense <= r.upper_bound + 1e-12,
+            "sampled {dense} > {}",
+            r.upper_bound
+        );
+        assert!(
+            r.distance >= dense - e,
+            "{} below sampling {dense}",
+            r.distance
+        );
+    }
+}

@@ -93,3 +93,33 @@ fn against_dense_sampling_on_closed_meshes() {
         }
     }
 }
+
+#[test]
+fn knot_against_a_moved_copy_within_the_bound_of_dense_sampling() {
+    // The copy overlaps the knot along all of its length: every triangle is refined.
+    let knot = mesh::torus_knot(40, 5).unwrap();
+    let e = 1e-3 * knot.bounding_radius();
+    let moved = Pose::from_axis_angle(Vec3::new(0.2, 1.0, -0.4), 0.1, Vec3::new(0.3, 0.1, 0.05));
+    let r = pointwise_penetration(&knot, &Pose::IDENTITY, &knot, &moved, e).unwrap();
+    assert!(r.upper_bound - r.depth <= e * (1.0 + 1e-9));
+    let sampled = dense(&knot, &Pose::IDENTITY, &knot, &moved, 6).max(dense(
+        &knot,
+        &moved,
+        &knot,
+        &Pose::IDENTITY,
+        6,
+    ));
+    assert!(
+        sampled <= r.upper_bound + 1e-12,
+        "sampled {sampled} > {}",
+        r.upper_bound
+    );
+    assert!(
+        r.depth >= sampled - e,
+        "{} below sampling {sampled}",
+        r.depth
+    );
+    let po = if r.from_first { moved } else { Pose::IDENTITY };
+    assert!(winding_number(&knot, &po, &[r.point1], &EXACT).unwrap()[0].abs() > 0.5);
+    assert!((brute(r.point1, &knot, &po) - r.depth).abs() < 1e-9);
+}

@@ -4,30 +4,35 @@
 //!
 //! Branch and bound over pieces of A (Tang, Lee and Kim 2009 cull with the hierarchies in the
 //! same spirit): a lower bound `L` is the largest `d(a, B)` found at points `a` of A's surface
-//! (triangle corners and centroids, from exact point-to-mesh distances), and each piece of A
-//! keeps an upper bound on `d(a, B)` over the piece; pieces whose bound is at most `L + e` are
-//! dropped, the largest bound is split first. When the largest bound left is at most `L + e`,
-//! the true value lies in `[L, L + e]` and `L` is returned with its witness points.
+//! (one exact point-to-mesh distance per piece: a corner of a node's first triangle, a
+//! (sub)triangle's centroid), and each piece of A keeps an upper bound on `d(a, B)` over the
+//! piece; pieces whose bound is at most `L + e` are dropped, the largest bound is split first.
+//! When the largest bound left is at most `L + e`, the true value lies in `[L, L + e]` and `L`
+//! is returned with its witness points.
 //!
-//! Upper bounds: a hierarchy node of A with centre `c` and bounding radius `r` has
-//! `d(a, B) <= d(c, B) + r` (the distance to a set is 1-Lipschitz), and, the node's volume being
-//! its rectangle grown by its radius, `d(a, B) <= d(a, B_j) <=` the largest `d(., B_j)` at the
-//! rectangle's corners plus the radius, for any triangle `B_j` of B (convex and 1-Lipschitz;
-//! the triangles nearest the centre and a corner are tried). A triangle `T` of A (and
-//! the four sub-triangles it is split into, recursively) has, besides that,
-//! `max over T of d(., B) = max over T of min_j d(., B_j) <= min_j max over T of d(., B_j)`, and
-//! each `d(., B_j)` (distance to one triangle of B) is convex, so its maximum over `T` is at
-//! a corner: any triangle `j` of B gives the bound `max_corners d(corner, B_j)`. The triangles
-//! of B closest to `T`'s corners are tried: where one triangle of B lies under all of `T` (two
-//! parallel plates) this is exact at once, where the Lipschitz bound would need `(size / e)^2`
-//! pieces.
+//! Upper bounds: the distance to a set is 1-Lipschitz, so a node of A whose volume has bounding
+//! radius `r` has `d(a, B) <= d(p, B) + 2 r` for its sampled corner `p`, and a triangle with
+//! centroid `c` and corners within `r` of it has `d(a, B) <= d(c, B) + r`. And the distance to
+//! one triangle `B_j` of B is convex and 1-Lipschitz: over a node's volume (its rectangle grown
+//! by its radius) `d(a, B) <= d(a, B_j)` is at most the largest `d(., B_j)` at the rectangle's
+//! corners plus the radius, and over a triangle `T` (and the four sub-triangles it is split
+//! into, recursively) `max over T of d(., B) = max over T of min_j d(., B_j) <= min_j max over
+//! T of d(., B_j)`, the maximum of each `d(., B_j)` over `T` being at a corner. The triangles
+//! of B tried for `j`: the one closest to the piece's sampled point and the two its parent
+//! tried (neighbouring points have neighbouring closest triangles). Where one triangle of B
+//! lies under all of `T` (two parallel plates) this is exact at once, where the Lipschitz
+//! bound would need `(size / e)^2` pieces.
+//!
+//! One exact distance per piece, not four (corners and centroid) as before: 2.3 times faster
+//! on the benchmark's knot against a moved copy, the same values (docs/BENCHMARKS.md, ninth
+//! session).
 
 use std::collections::BinaryHeap;
 
 use crate::bvh::Bvh;
 use crate::error::OptionsError;
 use crate::math::{Pose, Vec3};
-use crate::query::penetration::surface::{corner_bound, split4, triangle_to_mesh, Ranked};
+use crate::query::penetration::surface::{corner_bound, point_to_mesh, split4, Ranked};
 use crate::TriMesh;
 
 /// The Hausdorff distance found and where.
@@ -50,8 +55,9 @@ pub struct HausdorffResult {
 }
 
 /// A piece of A waiting: a node of A's hierarchy or a (sub)triangle, ranked by its upper
-/// bound.
-type Piece = Ranked<PieceKind>;
+/// bound, with the leaf positions of the two triangles of B its bound used (its pieces try
+/// them again: neighbouring points have neighbouring closest triangles).
+type Piece = Ranked<(PieceKind, [u32; 2])>;
 
 enum PieceKind {
     Node(u32),
@@ -82,7 +88,7 @@ impl OneSided<'_> {
 
     /// Exact `d(p, B)` at a surface point of A, raising the lower bound.
     fn sample(&mut self, p: Vec3) -> (f64, u32) {
-        let (d, q, leaf) = triangle_to_mesh(self.b, &[p; 3], self.warm);
+        let (d, q, leaf) = point_to_mesh(self.b, p, self.warm);
         self.warm = leaf;
         if d > self.lower {
             self.lower = d;
@@ -91,24 +97,24 @@ impl OneSided<'_> {
         (d, leaf)
     }
 
-    /// A node's piece: its volume's centre and bounding radius.
-    fn node_piece(&mut self, i: u32) -> Piece {
+    /// A node's piece: one exact distance, at a corner of its first triangle, and the bounds
+    /// it gives; `tried` are the parent's two triangles of B.
+    fn node_piece(&mut self, i: u32, tried: [u32; 2]) -> Piece {
         let node = &self.a.nodes()[i as usize];
         if node.is_leaf() {
             let t = self.a.leaf_triangles()[node.leaf_position() as usize]
                 .map(|p| self.a_to_b.transform_point(p));
-            return self.triangle_piece(t);
+            return self.triangle_piece(t, tried);
         }
         let rss = &node.rss;
-        let c = self.a_to_b.transform_point(rss.center);
-        let (d, _, leaf) = triangle_to_mesh(self.b, &[c; 3], self.warm);
-        self.warm = leaf;
-        // A point of the node's surface keeps the lower bound moving.
-        let first = self.a.leaf_triangles()[node.leaf_range().start][0];
-        let (_, first_leaf) = self.sample(self.a_to_b.transform_point(first));
-        // The volume is its rectangle grown by its radius, and the distance to one triangle
-        // of B is convex and 1-Lipschitz: over the volume it is at most its largest value at
-        // the rectangle's corners plus the radius.
+        let first = self
+            .a_to_b
+            .transform_point(self.a.leaf_triangles()[node.leaf_range().start][0]);
+        let (d, leaf) = self.sample(first);
+        // Every point of the volume is within its bounding diameter of that corner (the
+        // distance to B is 1-Lipschitz). And the volume is its rectangle grown by its radius,
+        // while the distance to one triangle of B is convex and 1-Lipschitz: over the volume
+        // it is at most its largest value at the rectangle's corners plus the radius.
         let (e0, e1) = (
             rss.axes.x_axis * rss.half_lengths[0],
             rss.axes.y_axis * rss.half_lengths[1],
@@ -120,53 +126,49 @@ impl OneSided<'_> {
             rss.center - e0 - e1,
         ]
         .map(|p| self.a_to_b.transform_point(p));
-        let upper = (d + rss.bounding_radius())
-            .min(corner_bound(self.b, &corners, &[leaf, first_leaf]) + rss.radius);
+        let candidates = [leaf, tried[0], tried[1]];
+        let upper = (d + 2.0 * rss.bounding_radius())
+            .min(corner_bound(self.b, &corners, &candidates) + rss.radius);
         Piece {
             upper,
-            item: PieceKind::Node(i),
+            item: (PieceKind::Node(i), [leaf, tried[0]]),
         }
     }
 
-    /// A (sub)triangle's piece: corners and centroid sampled, the smaller of the two bounds.
-    fn triangle_piece(&mut self, t: [Vec3; 3]) -> Piece {
-        let mut leaves = [0u32; 3];
-        let mut corner_max: f64 = 0.0;
-        for k in 0..3 {
-            let (d, leaf) = self.sample(t[k]);
-            leaves[k] = leaf;
-            corner_max = corner_max.max(d);
-        }
+    /// A (sub)triangle's piece: one exact distance, at its centroid, and the smaller of the
+    /// two bounds; `tried` are the parent's two triangles of B.
+    fn triangle_piece(&mut self, t: [Vec3; 3], tried: [u32; 2]) -> Piece {
         let c = (t[0] + t[1] + t[2]) / 3.0;
-        let (dc, _) = self.sample(c);
+        let (dc, leaf) = self.sample(c);
         let r = t.iter().fold(0.0_f64, |m, p| m.max((*p - c).length()));
-        let upper = (dc + r).min(corner_bound(self.b, &t, &leaves));
+        let upper = (dc + r).min(corner_bound(self.b, &t, &[leaf, tried[0], tried[1]]));
         Piece {
-            upper: upper.max(corner_max),
-            item: PieceKind::Triangle(t),
+            upper: upper.max(dc),
+            item: (PieceKind::Triangle(t), [leaf, tried[0]]),
         }
     }
 
     fn run(&mut self, max_error: f64) -> f64 {
         let mut heap = BinaryHeap::new();
-        let root = self.node_piece(0);
+        let root = self.node_piece(0, [0, 0]);
         heap.push(root);
         while let Some(piece) = heap.pop() {
             if piece.upper <= self.lower + max_error {
                 // The largest bound left is within the error: done.
                 return piece.upper.max(self.lower).max(self.dropped);
             }
-            match piece.item {
+            let (item, tried) = piece.item;
+            match item {
                 PieceKind::Node(i) => {
                     let (l, r) = self.a.nodes()[i as usize].children(i);
                     for c in [l, r] {
-                        let p = self.node_piece(c);
+                        let p = self.node_piece(c, tried);
                         self.keep(&mut heap, p, max_error);
                     }
                 }
                 PieceKind::Triangle(t) => {
                     for sub in split4(t) {
-                        let p = self.triangle_piece(sub);
+                        let p = self.triangle_piece(sub, tried);
                         self.keep(&mut heap, p, max_error);
                     }
                 }

@@ -17,7 +17,9 @@ use std::collections::BinaryHeap;
 
 use crate::error::OptionsError;
 use crate::math::{Pose, Vec3};
-use crate::query::penetration::surface::{corner_bound, split4, triangle_to_mesh, Ranked};
+use crate::query::penetration::surface::{
+    corner_bound, point_to_mesh, split4, triangle_meets_mesh, Ranked,
+};
 use crate::query::penetration::winding::inside;
 use crate::TriMesh;
 
@@ -36,8 +38,9 @@ pub struct PointwisePenetration {
     pub from_first: bool,
 }
 
-/// A (sub)triangle of A waiting, ranked by its upper bound.
-type Piece = Ranked<[Vec3; 3]>;
+/// A (sub)triangle of A waiting, ranked by its upper bound, with the two triangles of B its
+/// bound tried.
+type Piece = Ranked<([Vec3; 3], [u32; 2])>;
 
 /// One direction: the parts of A inside B, measured against B's surface (all in B's frame).
 struct Inside<'a> {
@@ -57,7 +60,7 @@ impl Inside<'_> {
     /// Samples `p` (a point of A): raises the lower bound if it is inside B. Returns the
     /// distance to B and the leaf position of B's closest triangle.
     fn sample(&mut self, p: Vec3) -> (f64, u32) {
-        let (d, q, leaf) = triangle_to_mesh(self.b_mesh.bvh(), &[p; 3], self.warm);
+        let (d, q, leaf) = point_to_mesh(self.b_mesh.bvh(), p, self.warm);
         self.warm = leaf;
         if d > self.lower && self.inside(p) {
             self.lower = d;
@@ -67,28 +70,24 @@ impl Inside<'_> {
     }
 
     /// The piece's upper bound, or `None` when it lies outside B (it does not meet B's surface
-    /// and its centroid is outside).
-    fn piece(&mut self, t: [Vec3; 3]) -> Option<Piece> {
-        let (gap, _, leaf) = triangle_to_mesh(self.b_mesh.bvh(), &t, self.warm);
-        self.warm = leaf;
+    /// and its centroid is outside). One exact point distance, at the centroid; the convex-corner
+    /// bound tries B's triangles nearest the piece and its centroid and the two its parent
+    /// tried (`tried`), which the piece passes on.
+    fn piece(&mut self, t: [Vec3; 3], tried: [u32; 2]) -> Option<Piece> {
+        let meets = triangle_meets_mesh(self.b_mesh.bvh(), &t, self.warm);
         let c = (t[0] + t[1] + t[2]) / 3.0;
-        if gap > 0.0 && !self.inside(c) {
+        if meets.is_none() && !self.inside(c) {
             return None;
         }
-        let mut corner_max: f64 = 0.0;
-        let mut leaves = [0u32; 3];
-        for (k, p) in t.into_iter().enumerate() {
-            let (d, leaf) = self.sample(p);
-            corner_max = corner_max.max(d);
-            leaves[k] = leaf;
-        }
-        let (dc, _) = self.sample(c);
+        let (dc, leaf) = self.sample(c);
+        let near = meets.unwrap_or(leaf);
         let r = t.iter().fold(0.0_f64, |m, p| m.max((*p - c).length()));
         // As in the Hausdorff search: the convex-corner bound.
-        let upper = (dc + r).min(corner_bound(self.b_mesh.bvh(), &t, &leaves));
+        let candidates = [near, leaf, tried[0], tried[1]];
+        let upper = (dc + r).min(corner_bound(self.b_mesh.bvh(), &t, &candidates));
         Some(Piece {
-            upper: upper.max(corner_max),
-            item: t,
+            upper: upper.max(dc),
+            item: (t, [leaf, near]),
         })
     }
 
@@ -102,14 +101,14 @@ impl Inside<'_> {
         while let Some(i) = stack.pop() {
             let node = &nodes[i as usize];
             let c = a_to_b.transform_point(node.rss.center);
-            let (d, _, leaf) = triangle_to_mesh(self.b_mesh.bvh(), &[c; 3], self.warm);
+            let (d, _, leaf) = point_to_mesh(self.b_mesh.bvh(), c, self.warm);
             self.warm = leaf;
             if d > node.rss.bounding_radius() && !self.inside(c) {
                 continue;
             }
             if node.is_leaf() {
                 let t = tris[node.leaf_position() as usize].map(|p| a_to_b.transform_point(p));
-                if let Some(p) = self.piece(t) {
+                if let Some(p) = self.piece(t, [leaf, leaf]) {
                     heap.push(p);
                 }
                 continue;
@@ -122,8 +121,9 @@ impl Inside<'_> {
             if piece.upper <= self.lower + max_error {
                 return piece.upper.max(self.lower).max(self.dropped);
             }
-            for sub in split4(piece.item) {
-                if let Some(p) = self.piece(sub) {
+            let (t, tried) = piece.item;
+            for sub in split4(t) {
+                if let Some(p) = self.piece(sub, tried) {
                     if p.upper > self.lower + max_error {
                         heap.push(p);
                     } else {
