@@ -4,14 +4,14 @@
 //!
 //! Branch and bound over pieces of A (Tang, Lee and Kim 2009 cull with the hierarchies in the
 //! same spirit): a lower bound `L` is the largest `d(a, B)` found at points `a` of A's surface
-//! (one exact point-to-mesh distance per piece: a corner of a node's first triangle, a
-//! (sub)triangle's centroid), and each piece of A keeps an upper bound on `d(a, B)` over the
+//! (one exact point-to-mesh distance per piece: the centroid of the triangle in the middle of
+//! a node's leaf range, or of a (sub)triangle), and each piece of A keeps an upper bound on `d(a, B)` over the
 //! piece; pieces whose bound is at most `L + e` are dropped, the largest bound is split first.
 //! When the largest bound left is at most `L + e`, the true value lies in `[L, L + e]` and `L`
 //! is returned with its witness points.
 //!
-//! Upper bounds: the distance to a set is 1-Lipschitz, so a node of A whose volume has bounding
-//! radius `r` has `d(a, B) <= d(p, B) + 2 r` for its sampled corner `p`, and a triangle with
+//! Upper bounds: the distance to a set is 1-Lipschitz, so a node of A whose volume has centre
+//! `o` and bounding radius `r` has `d(a, B) <= d(p, B) + |p - o| + r` for its sampled point `p`, and a triangle with
 //! centroid `c` and corners within `r` of it has `d(a, B) <= d(c, B) + r`. And the distance to
 //! one triangle `B_j` of B is convex and 1-Lipschitz: over a node's volume (its rectangle grown
 //! by its radius) `d(a, B) <= d(a, B_j)` is at most the largest `d(., B_j)` at the rectangle's
@@ -97,8 +97,8 @@ impl OneSided<'_> {
         (d, leaf)
     }
 
-    /// A node's piece: one exact distance, at a corner of its first triangle, and the bounds
-    /// it gives; `tried` are the parent's two triangles of B.
+    /// A node's piece: one exact distance, at the centroid of its middle triangle, and the
+    /// bounds it gives; `tried` are the parent's two triangles of B.
     fn node_piece(&mut self, i: u32, tried: [u32; 2]) -> Piece {
         let node = &self.a.nodes()[i as usize];
         if node.is_leaf() {
@@ -107,12 +107,17 @@ impl OneSided<'_> {
             return self.triangle_piece(t, tried);
         }
         let rss = &node.rss;
-        let first = self
+        // The centroid of the triangle in the middle of the node's leaf range: the leaves are
+        // in split order, so it lies where the node's two halves meet, near its centre.
+        let range = node.leaf_range();
+        let middle = self.a.leaf_triangles()[range.start + range.len() / 2];
+        let p = self
             .a_to_b
-            .transform_point(self.a.leaf_triangles()[node.leaf_range().start][0]);
-        let (d, leaf) = self.sample(first);
-        // Every point of the volume is within its bounding diameter of that corner (the
-        // distance to B is 1-Lipschitz). And the volume is its rectangle grown by its radius,
+            .transform_point((middle[0] + middle[1] + middle[2]) / 3.0);
+        let (d, leaf) = self.sample(p);
+        let centre = self.a_to_b.transform_point(rss.center);
+        // Every point of the volume is within `|p - centre| + r` of that point (the distance
+        // to B is 1-Lipschitz). And the volume is its rectangle grown by its radius,
         // while the distance to one triangle of B is convex and 1-Lipschitz: over the volume
         // it is at most its largest value at the rectangle's corners plus the radius.
         let (e0, e1) = (
@@ -127,7 +132,7 @@ impl OneSided<'_> {
         ]
         .map(|p| self.a_to_b.transform_point(p));
         let candidates = [leaf, tried[0], tried[1]];
-        let upper = (d + 2.0 * rss.bounding_radius())
+        let upper = (d + (p - centre).length() + rss.bounding_radius())
             .min(corner_bound(self.b, &corners, &candidates) + rss.radius);
         Piece {
             upper,
