@@ -39,8 +39,8 @@ pub struct PointwisePenetration {
 }
 
 /// A (sub)triangle of A waiting, ranked by its upper bound, with the two triangles of B its
-/// bound tried.
-type Piece = Ranked<([Vec3; 3], [u32; 2])>;
+/// bound tried and whether it is known to be inside B without meeting its surface.
+type Piece = Ranked<([Vec3; 3], [u32; 2], bool)>;
 
 /// One direction: the parts of A inside B, measured against B's surface (all in B's frame).
 struct Inside<'a> {
@@ -72,13 +72,20 @@ impl Inside<'_> {
     /// The piece's upper bound, or `None` when it lies outside B (it does not meet B's surface
     /// and its centroid is outside). One exact point distance, at the centroid; the convex-corner
     /// bound tries B's triangles nearest the piece and its centroid and the two its parent
-    /// tried (`tried`), which the piece passes on.
-    fn piece(&mut self, t: [Vec3; 3], tried: [u32; 2]) -> Option<Piece> {
-        let meets = triangle_meets_mesh(self.b_mesh.bvh(), &t, self.warm);
+    /// tried (`tried`), which the piece passes on. `clear`: the piece is known to lie inside B
+    /// without meeting its surface (a part of such a piece, or of such a node), so neither is
+    /// tested again.
+    fn piece(&mut self, t: [Vec3; 3], tried: [u32; 2], clear: bool) -> Option<Piece> {
         let c = (t[0] + t[1] + t[2]) / 3.0;
-        if meets.is_none() && !self.inside(c) {
-            return None;
-        }
+        let meets = if clear {
+            None
+        } else {
+            let meets = triangle_meets_mesh(self.b_mesh.bvh(), &t, self.warm);
+            if meets.is_none() && !self.inside(c) {
+                return None;
+            }
+            meets
+        };
         let (dc, leaf) = self.sample(c);
         let near = meets.unwrap_or(leaf);
         let r = t.iter().fold(0.0_f64, |m, p| m.max((*p - c).length()));
@@ -87,7 +94,7 @@ impl Inside<'_> {
         let upper = (dc + r).min(corner_bound(self.b_mesh.bvh(), &t, &candidates));
         Some(Piece {
             upper: upper.max(dc),
-            item: (t, [leaf, near]),
+            item: (t, [leaf, near], meets.is_none()),
         })
     }
 
@@ -95,35 +102,42 @@ impl Inside<'_> {
         let mut heap = BinaryHeap::new();
         // A's hierarchy first: a node whose bounding ball does not meet B's surface lies on
         // one side of it (the ball is connected), decided at its centre; outside nodes are
-        // dropped whole, the triangles of the others become pieces.
+        // dropped whole, the triangles of inside ones are pieces known to be clear of B's
+        // surface (no further test), those of the others become pieces tested on their own.
         let (nodes, tris) = (a.bvh().nodes(), a.bvh().leaf_triangles());
-        let mut stack = vec![0u32];
-        while let Some(i) = stack.pop() {
+        let mut stack = vec![(0u32, false)];
+        let mut leaf = 0;
+        while let Some((i, mut clear)) = stack.pop() {
             let node = &nodes[i as usize];
-            let c = a_to_b.transform_point(node.rss.center);
-            let (d, _, leaf) = point_to_mesh(self.b_mesh.bvh(), c, self.warm);
-            self.warm = leaf;
-            if d > node.rss.bounding_radius() && !self.inside(c) {
-                continue;
+            if !clear {
+                let c = a_to_b.transform_point(node.rss.center);
+                let (d, _, near) = point_to_mesh(self.b_mesh.bvh(), c, self.warm);
+                (self.warm, leaf) = (near, near);
+                if d > node.rss.bounding_radius() {
+                    if !self.inside(c) {
+                        continue;
+                    }
+                    clear = true;
+                }
             }
             if node.is_leaf() {
                 let t = tris[node.leaf_position() as usize].map(|p| a_to_b.transform_point(p));
-                if let Some(p) = self.piece(t, [leaf, leaf]) {
+                if let Some(p) = self.piece(t, [leaf, self.warm], clear) {
                     heap.push(p);
                 }
                 continue;
             }
             let (l, r) = node.children(i);
-            stack.push(l);
-            stack.push(r);
+            stack.push((l, clear));
+            stack.push((r, clear));
         }
         while let Some(piece) = heap.pop() {
             if piece.upper <= self.lower + max_error {
                 return piece.upper.max(self.lower).max(self.dropped);
             }
-            let (t, tried) = piece.item;
+            let (t, tried, clear) = piece.item;
             for sub in split4(t) {
-                if let Some(p) = self.piece(sub, tried) {
+                if let Some(p) = self.piece(sub, tried, clear) {
                     if p.upper > self.lower + max_error {
                         heap.push(p);
                     } else {
