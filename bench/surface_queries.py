@@ -1,0 +1,78 @@
+"""Hausdorff distance and pointwise penetration depth through Python, the tables of
+docs/BENCHMARKS.md: each query timed as a user's loop calls it (meshes built once, outside the
+timer), median of `--repeats` calls after one warm-up call, one thread. No other installed
+library computes either exactly, so there is no second column; the tests compare both with
+dense sampling and brute-force distances.
+
+Hausdorff: symmetric, a mesh against a copy moved by (0.3, 0.1, 0.05), error bounds of 1e-2,
+1e-3 and 1e-4 of the bounding radius (the hard case: the distance is nearly the same over the
+whole surface). Pointwise depth (error 1e-4 of the radius): two overlapping cubes, and the
+knots against copies overlapping everywhere or in part.
+
+    python bench/surface_queries.py [--repeats 3] [--out bench/out/surface_queries.md]
+"""
+
+import argparse
+import os
+import statistics
+import time
+
+import numpy as np
+
+import tocsin
+from _common import machine_line, models, write
+
+
+def median_ms(fn, repeats):
+    fn()
+    times = []
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        fn()
+        times.append(time.perf_counter() - t0)
+    return 1e3 * statistics.median(times)
+
+
+def moved(t):
+    p = np.eye(4)
+    p[:3, 3] = t
+    return p
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--repeats", type=int, default=3)
+    ap.add_argument("--out", default=os.path.join("bench", "out", "surface_queries.md"))
+    args = ap.parse_args()
+    os.environ.setdefault("RAYON_NUM_THREADS", "1")
+    meshes = models(["bunny", "knot2.8k", "knot34k"])
+    lines = [machine_line() + f"; median of {args.repeats} calls after a warm-up, times in ms.", ""]
+    lines += ["| mesh | triangles | error 1e-2 R | 1e-3 R | 1e-4 R | distance |", "|---|---:|---:|---:|---:|---:|"]
+    offset = moved([0.3, 0.1, 0.05])
+    for name, m in meshes.items():
+        cells, value = [], None
+        for rel in (1e-2, 1e-3, 1e-4):
+            e = rel * m.bounding_radius
+            run = lambda: tocsin.hausdorff_distance(m, np.eye(4), m, offset, max_error=e, symmetric=True)
+            cells.append(f"{median_ms(run, args.repeats):.1f}")
+            value = run().distance
+        lines.append(f"| {name} | {m.num_triangles} | " + " | ".join(cells) + f" | {value:.4f} |")
+    lines += ["", "| pair | pointwise depth | time (ms) |", "|---|---:|---:|"]
+    cube = tocsin.Mesh.box([0.5, 0.5, 0.5])
+    pairs = [("two unit cubes overlapping by 0.2", cube, moved([0.8, 0.0, 0.0]))]
+    for name in ("knot2.8k", "knot34k"):
+        m = meshes[name]
+        pairs += [
+            (f"{name}, copy moved by (0.3, 0.1, 0) (overlapping everywhere)", m, moved([0.3, 0.1, 0.0])),
+            (f"{name}, copy moved by 4.6 along x (partial overlap)", m, moved([4.6, 0.0, 0.0])),
+            (f"{name}, copy moved by 4.0 along x", m, moved([4.0, 0.0, 0.0])),
+        ]
+    for label, m, p in pairs:
+        run = lambda: tocsin.pointwise_penetration(m, np.eye(4), m, p)
+        ms = median_ms(run, args.repeats)
+        lines.append(f"| {label} | {run().depth:.4f} | {ms:.1f} |")
+    write(args.out, "\n".join(lines))
+
+
+if __name__ == "__main__":
+    main()
