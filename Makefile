@@ -61,6 +61,7 @@ test: lint rust-test py-test
 
 bench: bench-python
 	$(CARGO) bench -p tocsin
+	$(VPY) bench/surface_queries.py
 	$(MAKE) bench-parry
 
 # Side-by-side with python-fcl (distance, collide, continuous collision, tied geometry, the
