@@ -433,6 +433,7 @@ impl<'r> Segment<'r> {
                 max_iterations: self.max_iterations,
                 first_window: FIRST_WINDOW,
                 slack: (FAR_SLACK, NEAR_SLACK),
+                start_free: false,
             };
             let key = (pair.a, pair.b, pair.obstacle);
             let mut cache = warm
@@ -456,8 +457,10 @@ impl<'r> Segment<'r> {
                                 return Ok(Some(self.contact_at(pair, at)));
                             }
                         }
+                        // The advancement certified the meshes apart at `time_reached`.
                         let rest = Span {
                             start: time_reached,
+                            start_free: true,
                             ..span
                         };
                         advance_paths(m1, p1, m2, p2, &rest, &mut cache)?

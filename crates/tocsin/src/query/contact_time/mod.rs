@@ -238,6 +238,19 @@ pub(crate) fn advance(
     options: &ContactOptions,
     cache: &mut ContactCache,
 ) -> Result<Option<Ends>, ContactError> {
+    advance_from(mesh1, motion1, mesh2, motion2, options, cache, false)
+}
+
+/// [`advance`], told whether the meshes are known to be apart at `t = 0` ([`Span::start_free`]).
+pub(crate) fn advance_from(
+    mesh1: &TriMesh,
+    motion1: &Motion,
+    mesh2: &TriMesh,
+    motion2: &Motion,
+    options: &ContactOptions,
+    cache: &mut ContactCache,
+    start_free: bool,
+) -> Result<Option<Ends>, ContactError> {
     let delta = validate(mesh1, motion1, mesh2, motion2, options)?;
     let resolution = NORMAL_RESOLUTION * scene_scale(mesh1, motion1, mesh2, motion2);
     let span = Span {
@@ -248,6 +261,7 @@ pub(crate) fn advance(
         max_iterations: options.max_iterations,
         first_window: 1.0,
         slack: (FAR_SLACK, NEAR_SLACK),
+        start_free,
     };
     advance_paths(
         mesh1,
@@ -272,6 +286,11 @@ pub(crate) struct Span {
     pub first_window: f64,
     /// The step slack far from contact and near it (module docs).
     pub slack: (f64, f64),
+    /// The caller knows the meshes are apart at `start` (an exact `collide` said so, or an
+    /// advancement certified that time): the `collide` that would find a start in contact is
+    /// skipped. Were they touching after all, the first step search would find a pair within
+    /// the tolerance and end at `start` just the same, with [`ContactStatus::Converged`].
+    pub start_free: bool,
 }
 
 /// The advancement over `[span.start, span.end]`: where it ended when the meshes came within
@@ -287,7 +306,7 @@ pub(crate) fn advance_paths(
 ) -> Result<Option<Ends>, ContactError> {
     let (delta, resolution) = (span.delta, span.resolution);
     let (start1, start2) = (path1.pose_at(span.start), path2.pose_at(span.start));
-    if collide(mesh1, &start1, mesh2, &start2) {
+    if !span.start_free && collide(mesh1, &start1, mesh2, &start2) {
         return Ok(Some(Ends {
             time: span.start,
             earlier: None,

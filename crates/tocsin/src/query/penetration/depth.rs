@@ -63,7 +63,7 @@ use crate::math::{Pose, Vec3};
 use crate::motion::Motion;
 use crate::query::collide::intersecting_leaves;
 use crate::query::contact_time::{
-    advance, effective_tolerance, finish, ContactCache, ContactOptions, Ends, Path,
+    advance_from, effective_tolerance, finish, ContactCache, ContactOptions, Ends, Path,
 };
 use crate::query::penetration::convex;
 use crate::query::penetration::winding::inside;
@@ -269,13 +269,17 @@ fn come_back(
     };
     let still = Motion::stationary(*pose1);
     let mut cache = ContactCache::default();
+    // Every caller found the meshes apart at `s0` with the exact `collide` (or, polishing, at a
+    // touching translation the advancement left apart): not asked again.
     Ok(
-        advance(mesh1, &still, mesh2, &motion, options, &mut cache)?.map(|ends| Pending {
-            d,
-            s0,
-            motion,
-            ends,
-            cache,
+        advance_from(mesh1, &still, mesh2, &motion, options, &mut cache, true)?.map(|ends| {
+            Pending {
+                d,
+                s0,
+                motion,
+                ends,
+                cache,
+            }
         }),
     )
 }
