@@ -126,9 +126,11 @@ pub(crate) fn hausdorff_distance(
     let (p1, p2) = (pose_from(pose1, "pose1")?, pose_from(pose2, "pose2")?);
     let (m1, m2) = (mesh1.inner.clone(), mesh2.inner.clone());
     let e = max_error.unwrap_or_else(|| default_max_error(&m1, &m2));
-    let r = py
-        .detach(|| tocsin::hausdorff_distance(&m1, &p1, &m2, &p2, e, symmetric))
-        .map_err(|e| options_error(py, e))?;
+    // The two directions of a symmetric distance run in parallel: this process's pool.
+    let r = pool::run(py, || {
+        tocsin::hausdorff_distance(&m1, &p1, &m2, &p2, e, symmetric)
+    })?
+    .map_err(|e| options_error(py, e))?;
     Ok(HausdorffResult {
         distance: r.distance,
         upper_bound: r.upper_bound,
@@ -319,8 +321,8 @@ pub(crate) fn pointwise_penetration(
     let (p1, p2) = (pose_from(pose1, "pose1")?, pose_from(pose2, "pose2")?);
     let (m1, m2) = (mesh1.inner.clone(), mesh2.inner.clone());
     let e = max_error.unwrap_or_else(|| default_max_error(&m1, &m2));
-    let r = py
-        .detach(|| tocsin::pointwise_penetration(&m1, &p1, &m2, &p2, e))
+    // Both directions run in parallel: this process's pool.
+    let r = pool::run(py, || tocsin::pointwise_penetration(&m1, &p1, &m2, &p2, e))?
         .map_err(|e| options_error(py, e))?;
     Ok(PointwiseResult {
         depth: r.depth,

@@ -113,11 +113,11 @@ pub(crate) fn _robot_from_recipe(
         .into_iter()
         .map(|(k, (v, t))| (k, (v.into_iter().map(Vec3::from_array).collect(), t)))
         .collect();
-    let core = py
-        .detach(|| {
-            tocsin::Robot::from_urdf_str_with_meshes(&xml, base.as_deref(), &dirs, &provided)
-        })
-        .map_err(|e| robot_error(py, e))?;
+    // The meshes are built in this process's pool (fork-safe, like every mesh build).
+    let core = pool::run(py, || {
+        tocsin::Robot::from_urdf_str_with_meshes(&xml, base.as_deref(), &dirs, &provided)
+    })?
+    .map_err(|e| robot_error(py, e))?;
     let robot = Robot {
         inner: RwLock::new(Arc::new(core)),
         recipe: Mutex::new(vec![first.clone().unbind()]),
@@ -237,15 +237,15 @@ impl Robot {
         let xml = read(&path)?;
         let srdf_xml = srdf.as_ref().map(read).transpose()?;
         let base = path.parent().map(absolute);
-        let robot = py
-            .detach(|| -> Result<tocsin::Robot, RobotError> {
-                let mut r = tocsin::Robot::from_urdf_file(&path, &dirs)?;
-                if let Some(s) = &srdf {
-                    r.apply_srdf_file(s)?;
-                }
-                Ok(r)
-            })
-            .map_err(|e| robot_error(py, e))?;
+        // The meshes are built in this process's pool (fork-safe, like every mesh build).
+        let robot = pool::run(py, || -> Result<tocsin::Robot, RobotError> {
+            let mut r = tocsin::Robot::from_urdf_file(&path, &dirs)?;
+            if let Some(s) = &srdf {
+                r.apply_srdf_file(s)?;
+            }
+            Ok(r)
+        })?
+        .map_err(|e| robot_error(py, e))?;
         let mut recipe = vec![("urdf", xml, base, dirs)
             .into_pyobject(py)?
             .into_any()
@@ -269,9 +269,10 @@ impl Robot {
         base_dir: Option<PathBuf>,
         package_dirs: Vec<PathBuf>,
     ) -> PyResult<Self> {
-        let robot = py
-            .detach(|| tocsin::Robot::from_urdf_str(xml, base_dir.as_deref(), &package_dirs))
-            .map_err(|e| robot_error(py, e))?;
+        let robot = pool::run(py, || {
+            tocsin::Robot::from_urdf_str(xml, base_dir.as_deref(), &package_dirs)
+        })?
+        .map_err(|e| robot_error(py, e))?;
         let base = base_dir.as_deref().map(absolute);
         let dirs: Vec<PathBuf> = package_dirs.iter().map(|d| absolute(d)).collect();
         let first = ("urdf", xml, base, dirs)

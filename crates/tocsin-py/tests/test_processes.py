@@ -15,7 +15,8 @@ import tocsin
 
 
 def _work(seed: int) -> tuple[float, int]:
-    """A mesh build (parallel), a distance batch (parallel) and a time of contact."""
+    """A mesh build (parallel), a distance batch (parallel), a time of contact and a symmetric
+    Hausdorff distance (its two directions run on two threads)."""
     knot = tocsin.Mesh.torus_knot(60 + seed, 8)
     poses = np.tile(np.eye(4), (8, 1, 1))
     poses[:, 0, 3] = np.linspace(7.0, 9.0, 8)
@@ -24,7 +25,9 @@ def _work(seed: int) -> tuple[float, int]:
     start[0, 3], end[0, 3] = -12.0, 12.0
     c = tocsin.time_of_contact(knot, tocsin.Motion.translation(start, end), knot, tocsin.Motion.stationary(np.eye(4)))
     assert c is not None
-    return float(batch.distance.sum()), knot.num_triangles
+    h = tocsin.hausdorff_distance(knot, np.eye(4), knot, poses[0], max_error=1e-2, symmetric=True)
+    assert h.distance <= h.upper_bound
+    return float(batch.distance.sum()) + round(h.distance, 9), knot.num_triangles
 
 
 def _expected(seeds):
@@ -55,12 +58,23 @@ def test_process_pool_executor_with_fork():
     assert got == _expected([5, 6])
 
 
-def test_bare_os_fork_child_builds_and_exits():
-    _warm_parent()
+def _robot_work():
+    """A robot loaded from its URDF (its meshes built) and one segment checked."""
+    import pybullet_data
+
+    urdf = os.path.join(pybullet_data.getDataPath(), "franka_panda", "panda.urdf")
+    robot = tocsin.Robot.from_urdf(urdf)
+    lo, hi = robot.joint_limits[:, 0], robot.joint_limits[:, 1]
+    q0, q1 = 0.6 * lo + 0.4 * hi, 0.4 * lo + 0.6 * hi
+    return robot.dof, bool(robot.path_is_free(q0, q1, tocsin.Scene()))
+
+
+def _fork_and_wait(work):
+    """Runs `work` in a child made by a bare os.fork(); fails the test if the child hangs."""
     pid = os.fork()
-    if pid == 0:  # the child: a build and a batch, then report through the exit status
+    if pid == 0:  # the child: report through the exit status
         try:
-            _work(7)
+            work()
             os._exit(0)
         except BaseException:
             os._exit(3)
@@ -78,6 +92,22 @@ def test_bare_os_fork_child_builds_and_exits():
         os.waitpid(pid, 0)
         pytest.fail("the forked child hung")
     assert os.waitstatus_to_exitcode(deadline_status) == 0
+
+
+def test_bare_os_fork_child_builds_and_exits():
+    _warm_parent()
+    _fork_and_wait(lambda: _work(7))
+
+
+def test_robot_loads_in_a_forked_child():
+    # Regression: robots were loaded on rayon's global pool, so a parent that had loaded one
+    # made every forked child hang on its own first robot.
+    expected = _robot_work()
+
+    def child():
+        assert _robot_work() == expected
+
+    _fork_and_wait(child)
 
 
 def test_threads_give_the_single_thread_answers():

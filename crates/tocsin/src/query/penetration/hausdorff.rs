@@ -223,11 +223,14 @@ pub fn hausdorff_distance(
             from_first,
         }
     };
-    let forward = one(mesh1, pose1, mesh2, pose2, true);
     if !symmetric {
-        return Ok(forward);
+        return Ok(one(mesh1, pose1, mesh2, pose2, true));
     }
-    let backward = one(mesh2, pose2, mesh1, pose1, false);
+    // The two directions are independent searches: on two threads when rayon has them.
+    let (forward, backward) = rayon::join(
+        || one(mesh1, pose1, mesh2, pose2, true),
+        || one(mesh2, pose2, mesh1, pose1, false),
+    );
     Ok(HausdorffResult {
         upper_bound: forward.upper_bound.max(backward.upper_bound),
         ..if backward.distance > forward.distance {

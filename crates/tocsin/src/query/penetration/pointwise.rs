@@ -187,8 +187,11 @@ pub fn pointwise_penetration(
             pb.transform_point(s.witness.1),
         )
     };
-    let f = one(mesh1, pose1, mesh2, pose2);
-    let b = one(mesh2, pose2, mesh1, pose1);
+    // The two directions are independent searches: on two threads when rayon has them.
+    let (f, b) = rayon::join(
+        || one(mesh1, pose1, mesh2, pose2),
+        || one(mesh2, pose2, mesh1, pose1),
+    );
     let (win, from_first) = if b.0 > f.0 { (b, false) } else { (f, true) };
     Ok(PointwisePenetration {
         depth: win.0,
