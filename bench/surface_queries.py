@@ -1,6 +1,7 @@
 """Hausdorff distance and pointwise penetration depth through Python, the tables of
 docs/BENCHMARKS.md: each query timed as a user's loop calls it (meshes built once, outside the
-timer), median of `--repeats` calls after one warm-up call, one thread. No other installed
+timer), median of `--repeats` calls after one warm-up call, on `--threads` threads (1 by
+default). No other installed
 library computes either exactly, so there is no second column; the tests compare both with
 dense sampling and brute-force distances.
 
@@ -9,7 +10,7 @@ Hausdorff: symmetric, a mesh against a copy moved by (0.3, 0.1, 0.05), error bou
 whole surface). Pointwise depth (error 1e-4 of the radius): two overlapping cubes, and the
 knots against copies overlapping everywhere or in part.
 
-    python bench/surface_queries.py [--repeats 3] [--out bench/out/surface_queries.md]
+    python bench/surface_queries.py [--repeats 3] [--threads 1] [--out bench/out/surface_queries.md]
 """
 
 import argparse
@@ -42,11 +43,13 @@ def moved(t):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeats", type=int, default=3)
+    ap.add_argument("--threads", type=int, default=1, help="threads of tocsin's pool (the two directions of a symmetric query run in parallel)")
     ap.add_argument("--out", default=os.path.join("bench", "out", "surface_queries.md"))
     args = ap.parse_args()
-    os.environ.setdefault("RAYON_NUM_THREADS", "1")
+    # Read when tocsin's pool starts, at the first mesh build below.
+    os.environ["RAYON_NUM_THREADS"] = str(args.threads)
     meshes = models(["bunny", "knot2.8k", "knot34k"])
-    lines = [machine_line() + f"; median of {args.repeats} calls after a warm-up, times in ms.", ""]
+    lines = [machine_line() + f"; {args.threads} thread(s); median of {args.repeats} calls after a warm-up, times in ms.", ""]
     lines += ["| mesh | triangles | error 1e-2 R | 1e-3 R | 1e-4 R | distance |", "|---|---:|---:|---:|---:|---:|"]
     offset = moved([0.3, 0.1, 0.05])
     for name, m in meshes.items():
