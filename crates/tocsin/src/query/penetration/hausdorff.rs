@@ -71,7 +71,6 @@ struct OneSided<'a> {
     a_to_b: Pose,
     lower: f64,
     witness: (Vec3, Vec3),
-    warm: u32,
     /// The largest upper bound of a piece dropped for being within the error of `lower`.
     dropped: f64,
 }
@@ -86,10 +85,11 @@ impl OneSided<'_> {
         }
     }
 
-    /// Exact `d(p, B)` at a surface point of A, raising the lower bound.
-    fn sample(&mut self, p: Vec3) -> (f64, u32) {
-        let (d, q, leaf) = point_to_mesh(self.b, p, self.warm);
-        self.warm = leaf;
+    /// Exact `d(p, B)` at a surface point of A, raising the lower bound; the search tries the
+    /// triangle of B at leaf position `warm` first (the parent piece's nearest: the heap pops
+    /// pieces from all over A, so the last query's is seldom near).
+    fn sample(&mut self, p: Vec3, warm: u32) -> (f64, u32) {
+        let (d, q, leaf) = point_to_mesh(self.b, p, warm);
         if d > self.lower {
             self.lower = d;
             self.witness = (p, q);
@@ -114,7 +114,7 @@ impl OneSided<'_> {
         let p = self
             .a_to_b
             .transform_point((middle[0] + middle[1] + middle[2]) / 3.0);
-        let (d, leaf) = self.sample(p);
+        let (d, leaf) = self.sample(p, tried[0]);
         let centre = self.a_to_b.transform_point(rss.center);
         // Every point of the volume is within `|p - centre| + r` of that point (the distance
         // to B is 1-Lipschitz). And the volume is its rectangle grown by its radius,
@@ -144,7 +144,7 @@ impl OneSided<'_> {
     /// two bounds; `tried` are the parent's two triangles of B.
     fn triangle_piece(&mut self, t: [Vec3; 3], tried: [u32; 2]) -> Piece {
         let c = (t[0] + t[1] + t[2]) / 3.0;
-        let (dc, leaf) = self.sample(c);
+        let (dc, leaf) = self.sample(c, tried[0]);
         let r = t.iter().fold(0.0_f64, |m, p| m.max((*p - c).length()));
         let upper = (dc + r).min(corner_bound(self.b, &t, &[leaf, tried[0], tried[1]]));
         Piece {
@@ -211,7 +211,6 @@ pub fn hausdorff_distance(
             a_to_b: pb.inv_mul(pa),
             lower: 0.0,
             witness: (Vec3::ZERO, Vec3::ZERO),
-            warm: 0,
             dropped: 0.0,
         };
         let upper = s.run(max_error);
