@@ -5,6 +5,7 @@
 #![allow(clippy::unwrap_used, clippy::panic)]
 
 mod common;
+use common::brute_point_distance;
 
 use tocsin::query::distance::distance_triangle_triangle;
 use tocsin::{hausdorff_distance, mesh, Pose, TriMesh, Vec3};
@@ -32,16 +33,6 @@ fn sampled(a: &TriMesh, pa: &Pose, b: &TriMesh, pb: &Pose, k: usize) -> f64 {
     worst
 }
 
-/// Exact distance from a point to B by brute force.
-fn point_distance(p: Vec3, b: &TriMesh, pb: &Pose) -> f64 {
-    (0..b.num_triangles())
-        .map(|j| {
-            distance_triangle_triangle(&[p; 3], &b.triangle(j).map(|q| pb.transform_point(q)))
-                .distance
-        })
-        .fold(f64::INFINITY, f64::min)
-}
-
 #[test]
 fn within_the_error_bound_of_dense_sampling_on_random_soups() {
     let mut rng = common::rng(21);
@@ -66,7 +57,7 @@ fn within_the_error_bound_of_dense_sampling_on_random_soups() {
                 (&b, &a, &pa)
             };
             let _ = from;
-            let d = point_distance(r.point1, to, pto);
+            let d = brute_point_distance(r.point1, to, pto);
             assert!(
                 (d - r.distance).abs() < 1e-9,
                 "case {case}: witness {d} vs {}",
@@ -131,7 +122,7 @@ fn knot_against_a_moved_copy_within_the_bound_of_dense_sampling() {
         let r = hausdorff_distance(&knot, &Pose::IDENTITY, &knot, &moved, e, true).unwrap();
         assert!(r.upper_bound - r.distance <= e * (1.0 + 1e-9));
         let to = if r.from_first { moved } else { Pose::IDENTITY };
-        let d = point_distance(r.point1, &knot, &to);
+        let d = brute_point_distance(r.point1, &knot, &to);
         assert!(
             (d - r.distance).abs() < 1e-9,
             "witness {d} vs {}",

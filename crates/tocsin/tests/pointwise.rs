@@ -6,21 +6,12 @@
 
 mod common;
 
-use tocsin::query::distance::distance_triangle_triangle;
+use common::brute_point_distance;
 use tocsin::{mesh, pointwise_penetration, winding_number, Pose, TriMesh, Vec3, WindingOptions};
 
 const EXACT: WindingOptions = WindingOptions {
     beta: f64::INFINITY,
 };
-
-fn brute(p: Vec3, b: &TriMesh, pb: &Pose) -> f64 {
-    (0..b.num_triangles())
-        .map(|j| {
-            distance_triangle_triangle(&[p; 3], &b.triangle(j).map(|q| pb.transform_point(q)))
-                .distance
-        })
-        .fold(f64::INFINITY, f64::min)
-}
 
 /// The largest distance to B's surface over samples of A's surface inside B.
 fn dense(a: &TriMesh, pa: &Pose, b: &TriMesh, pb: &Pose, k: usize) -> f64 {
@@ -38,7 +29,7 @@ fn dense(a: &TriMesh, pa: &Pose, b: &TriMesh, pb: &Pose, k: usize) -> f64 {
     pts.iter()
         .zip(&w)
         .filter(|(_, w)| **w > 0.5)
-        .map(|(p, _)| brute(*p, b, pb))
+        .map(|(p, _)| brute_point_distance(*p, b, pb))
         .fold(0.0, f64::max)
 }
 
@@ -89,7 +80,7 @@ fn against_dense_sampling_on_closed_meshes() {
             let (other, po) = if r.from_first { (b, &pb) } else { (a, &pa) };
             let w = winding_number(other, po, &[r.point1], &EXACT).unwrap()[0];
             assert!(w > 0.5, "case {case}: witness not inside ({w})");
-            assert!((brute(r.point1, other, po) - r.depth).abs() < 1e-9);
+            assert!((brute_point_distance(r.point1, other, po) - r.depth).abs() < 1e-9);
         }
     }
 }
@@ -121,5 +112,5 @@ fn knot_against_a_moved_copy_within_the_bound_of_dense_sampling() {
     );
     let po = if r.from_first { moved } else { Pose::IDENTITY };
     assert!(winding_number(&knot, &po, &[r.point1], &EXACT).unwrap()[0].abs() > 0.5);
-    assert!((brute(r.point1, &knot, &po) - r.depth).abs() < 1e-9);
+    assert!((brute_point_distance(r.point1, &knot, &po) - r.depth).abs() < 1e-9);
 }

@@ -91,6 +91,13 @@ pub fn brute_distance(m1: &TriMesh, p1: &Pose, m2: &TriMesh, p2: &Pose) -> (f64,
     best
 }
 
+/// Brute force over all triangles: the distance from the world point `p` to the mesh.
+pub fn brute_point_distance(p: Vec3, mesh: &TriMesh, pose: &Pose) -> f64 {
+    (0..mesh.num_triangles())
+        .map(|j| distance_triangle_triangle(&[p; 3], &world_triangle(mesh, pose, j)).distance)
+        .fold(f64::INFINITY, f64::min)
+}
+
 /// Brute force: all intersecting triangle pairs, sorted.
 pub fn brute_pairs(m1: &TriMesh, p1: &Pose, m2: &TriMesh, p2: &Pose) -> Vec<[usize; 2]> {
     let pos12 = p1.inv_mul(p2);

@@ -204,8 +204,10 @@ pub fn time_of_contact_with_cache(
     cache: &mut ContactCache,
 ) -> Result<Option<ContactTime>, ContactError> {
     let (path1, path2) = (Path::Rigid(motion1), Path::Rigid(motion2));
-    Ok(advance(mesh1, motion1, mesh2, motion2, options, cache)?
-        .map(|ends| finish(mesh1, path1, mesh2, path2, ends, cache)))
+    Ok(
+        advance(mesh1, motion1, mesh2, motion2, options, cache, false)?
+            .map(|ends| finish(mesh1, path1, mesh2, path2, ends, cache)),
+    )
 }
 
 /// Whether the motions are free of contact: `true` when the meshes stay farther apart than
@@ -225,24 +227,13 @@ pub fn motion_is_free(
     options: &ContactOptions,
 ) -> Result<bool, ContactError> {
     let mut cache = ContactCache::default();
-    Ok(advance(mesh1, motion1, mesh2, motion2, options, &mut cache)?.is_none())
+    Ok(advance(mesh1, motion1, mesh2, motion2, options, &mut cache, false)?.is_none())
 }
 
 /// The advancement of two rigid motions over `[0, 1]` (module docs); [`finish`] gives the
-/// witnesses of where it ended.
+/// witnesses of where it ended. `start_free`: the caller knows the meshes are apart at `t = 0`
+/// ([`Span::start_free`]).
 pub(crate) fn advance(
-    mesh1: &TriMesh,
-    motion1: &Motion,
-    mesh2: &TriMesh,
-    motion2: &Motion,
-    options: &ContactOptions,
-    cache: &mut ContactCache,
-) -> Result<Option<Ends>, ContactError> {
-    advance_from(mesh1, motion1, mesh2, motion2, options, cache, false)
-}
-
-/// [`advance`], told whether the meshes are known to be apart at `t = 0` ([`Span::start_free`]).
-pub(crate) fn advance_from(
     mesh1: &TriMesh,
     motion1: &Motion,
     mesh2: &TriMesh,

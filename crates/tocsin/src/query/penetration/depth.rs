@@ -63,7 +63,7 @@ use crate::math::{Pose, Vec3};
 use crate::motion::Motion;
 use crate::query::collide::intersecting_leaves;
 use crate::query::contact_time::{
-    advance_from, effective_tolerance, finish, ContactCache, ContactOptions, Ends, Path,
+    advance, effective_tolerance, finish, ContactCache, ContactOptions, Ends, Path,
 };
 use crate::query::penetration::convex;
 use crate::query::penetration::winding::inside;
@@ -272,14 +272,12 @@ fn come_back(
     // Every caller found the meshes apart at `s0` with the exact `collide` (or, polishing, at a
     // touching translation the advancement left apart): not asked again.
     Ok(
-        advance_from(mesh1, &still, mesh2, &motion, options, &mut cache, true)?.map(|ends| {
-            Pending {
-                d,
-                s0,
-                motion,
-                ends,
-                cache,
-            }
+        advance(mesh1, &still, mesh2, &motion, options, &mut cache, true)?.map(|ends| Pending {
+            d,
+            s0,
+            motion,
+            ends,
+            cache,
         }),
     )
 }
