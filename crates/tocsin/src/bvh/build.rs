@@ -2,8 +2,9 @@
 //!
 //! Each node: vertex covariance of its triangles -> principal axes -> RSS fit -> split the
 //! triangles by the mean centroid along the first axis, or another where slivers span the node
-//! ([`split_axis`]); half and half when that leaves a side empty, e.g. duplicated triangles. The triangles' corners are partitioned in place with
-//! their ids, so every pass reads memory in order and the array ends in leaf order. Subtree
+//! ([`split_axis`]); half and half when that leaves a side empty, e.g. duplicated triangles.
+//! The triangles' corners are partitioned in place with their ids, so every pass reads memory
+//! in order and the array ends in leaf order. Subtree
 //! sizes are known in advance (`2n - 1`), so the two children write disjoint slices and the
 //! result does not depend on the thread count.
 

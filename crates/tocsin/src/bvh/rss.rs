@@ -216,14 +216,14 @@ impl BSide {
 /// direction, in `a`'s frame, along which it was found (pointing from `a` towards `b`).
 ///
 /// The bound is the largest gap `|n.t| - extent_a(n) - extent_b(n)` over four candidate
-/// separating axes: the two normals, the near-points axis (`b`'s centre clamped to `a`'s
+/// separating axes: the two normals; the near-points axis (`b`'s centre clamped to `a`'s
 /// rectangle, that point clamped to `b`'s rectangle, and that one clamped back to `a`'s; the
-/// axis runs between the last two points), and the common perpendicular of the two long edges
-/// (`a_x x b_x`), which gives the exact distance of two slivers that cross far from their
-/// centres, where the first three fail (ARCHITECTURE.md). That is two and a half steps of alternating projection
+/// axis runs between the last two points: two and a half steps of alternating projection
 /// towards the closest points of the two rectangles, so the axis approaches the direction of
-/// the exact distance (exact for two balls, and for a rectangle and a ball). By convex duality
-/// every unit direction gives a valid lower bound.
+/// the exact distance, exact for two balls and for a rectangle and a ball); and the common
+/// perpendicular of the two long edges (`a_x x b_x`), which gives the exact distance of two
+/// slivers that cross far from their centres, where the first three fail (ARCHITECTURE.md).
+/// By convex duality every unit direction gives a valid lower bound.
 ///
 /// Measured on the knot34k distance workload (`examples/profile_distance.rs`) against the 13
 /// axes used before (normals, rectangle edges, edge cross products, the line between the

@@ -5,8 +5,9 @@
 
 use crate::bvh::{Bvh, Rss};
 use crate::math::Vec3;
-use crate::query::distance::intersect_triangle_triangle;
-use crate::query::distance::{project_inside_triangle, triangle_normal};
+use crate::query::distance::{
+    intersect_triangle_triangle, project_inside_triangle, triangle_normal,
+};
 
 /// A lower bound on the distance from `p` to the volume.
 #[inline]
