@@ -21,7 +21,7 @@ import time
 import numpy as np
 
 import tocsin
-from _common import machine_line, models, write
+from _common import machine_line, models, pose, write
 
 
 def median_ms(fn, repeats):
@@ -35,9 +35,8 @@ def median_ms(fn, repeats):
 
 
 def moved(t):
-    p = np.eye(4)
-    p[:3, 3] = t
-    return p
+    """A pose that only translates by `t`."""
+    return pose(np.eye(3), t)
 
 
 def main():
