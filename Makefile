@@ -8,7 +8,7 @@ VPY := $(VENV)/bin/python
 VENV_NP1 := .venv-numpy1
 CARGO ?= cargo
 
-.PHONY: demo test venv develop wheel lint rust-test py-test bench bench-python bench-parry clean
+.PHONY: demo test venv develop wheel lint rust-test py-test bench bench-python bench-robots bench-parry clean
 
 demo:
 	$(CARGO) run --release -q -p tocsin --example demo
@@ -73,6 +73,13 @@ bench-python: develop
 	$(VPY) bench/compare_fcl_ccd.py
 	$(VPY) bench/compare_fcl_ties.py
 	$(VPY) bench/compare_fcl_pathological.py
+
+# MotionBenchMaker's Panda beside Pinocchio + coal (OMPL's 1% sampler) and HPP's exact path
+# validation (hpp-python); downloads the vamp-planner source distribution from the package
+# index once, into ~/.cache/tocsin-bench. Not part of `make bench`.
+bench-robots: develop
+	$(VPY) -m pip install -q pin coal hpp-python pyyaml
+	$(VPY) bench/robot_mbm.py --robots panda
 
 # parry3d-f64's shape casts next to tocsin (its own cargo workspace, not built by `make test`).
 bench-parry:

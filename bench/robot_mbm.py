@@ -1,22 +1,27 @@
-"""Robot segment checks on MotionBenchMaker (Panda, UR5, Fetch), side by side with Pinocchio +
-coal discrete checks at OMPL's default resolution, in one run, interleaved edge by edge.
+"""Robot segment checks on MotionBenchMaker (Panda, UR5, Fetch), side by side in one run with
+Pinocchio + coal discrete checks at OMPL's default resolution and with HPP's exact path
+validation.
 
 Problems, URDF, SRDF and meshes come from the vamp-planner source distribution on PyPI
 (downloaded once into ~/.cache/tocsin-bench; read, never built). Per scenario, for the first
 --problems problems: --edges random 0.5 rad edges from the start state (random unit direction in
 joint space, clipped to the limits) plus the start-to-goal edge. Each edge is checked by
 
-- tocsin ``Robot.path_is_free`` (exact, self-collision included), and
+- tocsin ``Robot.path_is_free`` (exact, self-collision included),
 - Pinocchio + coal ``computeCollisions`` at the states OMPL's DiscreteMotionValidator visits
   at its default resolution (1% of the space's extent: ``ceil(|q1 - q0| / (0.01 extent))``
-  states after the start, stopping at the first collision),
+  states after the start, stopping at the first collision), and
+- HPP's ``Dichotomy`` continuous path validation (hpp-python; exact, tolerance 0) on the same
+  geometry and pairs (``--no-hpp`` leaves it out),
 
 and each start state by both single-configuration checks. Objects are built once, outside the
-timers; every call is made as a planner's loop would make it, one at a time from Python.
+timers; every call is made as a planner's loop would make it, one at a time from Python, each
+checker running a scene's edges as one block, the blocks alternating scene by scene.
 Verdicts are compared: an edge the sampler calls free and tocsin does not is checked again with
-coal at 20,001 states; a collision found there makes it a confirmed miss of the sampler.
+coal at 20,001 states; a collision found there makes it a confirmed miss of the sampler; HPP's
+verdicts are counted where they differ from tocsin's.
 
-    python bench/robot_mbm.py [--problems 10] [--edges 20] [--robots panda,ur5,fetch] [--out FILE]
+    python bench/robot_mbm.py [--problems 10] [--edges 20] [--robots panda,ur5,fetch] [--no-hpp] [--out FILE]
 """
 
 import argparse
@@ -176,6 +181,115 @@ class Pinocchio:
         return self.pin.computeCollisions(self.model, self.data, geom[0], geom[1], q, True)
 
 
+def hpp_importable():
+    """Whether pyhpp (hpp-python) imports. Its bindings find their libraries only through
+    LD_LIBRARY_PATH: when the import fails for that reason, the run starts again with the
+    venv's cmeel prefix on it (once)."""
+    try:
+        import pyhpp.core  # noqa: F401
+
+        return True
+    except ImportError:
+        pass
+    import sys
+
+    libs = [pathlib.Path(p) / "cmeel.prefix" / "lib" for p in sys.path]
+    libs = [str(p) for p in libs if (p / "libhpp-core.so").exists()]
+    if libs and "TOCSIN_BENCH_HPP_REEXEC" not in os.environ:
+        os.environ["LD_LIBRARY_PATH"] = ":".join(libs + [os.environ.get("LD_LIBRARY_PATH", "")])
+        os.environ["TOCSIN_BENCH_HPP_REEXEC"] = "1"
+        os.execv(sys.executable, [sys.executable] + sys.argv)
+    return False
+
+
+class Hpp:
+    """HPP's exact path validation (hpp-core's continuous validation by dichotomy: coal
+    distances and a velocity bound through the chain, the CATCH idea), tolerance 0, on the same
+    geometry and pairs as tocsin: the robot loads from the URDF and SRDF, then each robot
+    collision object's geometry is replaced by a coal BVH of tocsin's mesh of it, placed where
+    tocsin places it (found from both kinematics at the start state); the obstacles are coal
+    primitives as for Pinocchio; the checked pairs are tocsin's self pairs plus every robot
+    object against every obstacle. One device per scene (its obstacles are part of it)."""
+
+    def __init__(self, urdf, srdf, robot):
+        urdf = pathlib.Path(urdf)
+        # package://meshes/... in the MotionBenchMaker URDFs: the folder beside the URDF.
+        self.urdf_text = urdf.read_text().replace("package://meshes/", str(urdf.parent / "meshes") + "/")
+        self.srdf_text = pathlib.Path(srdf).read_text()
+        self.robot = robot
+        self.bvhs = {}
+        import coal
+
+        for name in robot.object_names:
+            mesh = robot.object_mesh(name)
+            bvh = coal.BVHModelOBBRSS()
+            bvh.beginModel(mesh.num_triangles, mesh.num_vertices)
+            bvh.addVertices(np.ascontiguousarray(mesh.vertices))
+            bvh.addTriangles(np.ascontiguousarray(mesh.triangles.astype(np.int64)))
+            bvh.endModel()
+            self.bvhs[name] = bvh
+
+    def scene(self, scene, q_ref):
+        import pinocchio as pin
+        from pyhpp.core import Dichotomy, Problem
+        from pyhpp.pinocchio import Device, urdf
+
+        device = Device("robot")
+        urdf.loadModelFromString(device, 0, "robot", "anchor", self.urdf_text, self.srdf_text, pin.SE3.Identity())
+        links, joints = [], []
+        for k, (name, kind, dims, pose) in enumerate(obstacles(scene)):
+            if kind == "box":
+                geometry = '<box size="{} {} {}"/>'.format(*dims)
+            elif kind == "cylinder":  # MoveIt: [height, radius]
+                geometry = f'<cylinder radius="{dims[1]}" length="{dims[0]}"/>'
+            elif kind == "sphere":
+                geometry = f'<sphere radius="{dims[0]}"/>'
+            else:
+                raise ValueError(kind)
+            rpy = pin.rpy.matrixToRpy(pose[:3, :3])
+            links.append(f'<link name="o{k}"><collision><geometry>{geometry}</geometry></collision></link>')
+            joints.append(
+                f'<joint name="j{k}" type="fixed"><parent link="base"/><child link="o{k}"/>'
+                f'<origin xyz="{pose[0, 3]} {pose[1, 3]} {pose[2, 3]}" rpy="{rpy[0]} {rpy[1]} {rpy[2]}"/></joint>'
+            )
+        env = '<robot name="env"><link name="base"/>' + "".join(links + joints) + "</robot>"
+        urdf.loadModelFromString(device, 0, "env", "anchor", env, "", pin.SE3.Identity())
+        model, geom = device.model(), device.geomModel()
+        data = model.createData()
+        pin.forwardKinematics(model, data, q_ref)
+        ours = dict(zip(self.robot.object_names, self.robot.object_poses(q_ref)))
+        index, n_env = {}, 0
+        for i, obj in enumerate(geom.geometryObjects):
+            if obj.name.startswith("env/"):
+                n_env += 1
+                continue
+            link = obj.name[len("robot/") :].rsplit("_", 1)[0]
+            if link not in ours or link in index:
+                raise RuntimeError(f"HPP object {obj.name} has no single tocsin object")
+            obj.geometry = self.bvhs[link]
+            obj.placement = data.oMi[obj.parentJoint].actInv(pin.SE3(ours[link][:3, :3], ours[link][:3, 3]))
+            index[link] = i
+        if set(index) != set(self.robot.object_names):
+            raise RuntimeError("HPP's robot objects differ from tocsin's")
+        geom.removeAllCollisionPairs()
+        for a, b in self.robot.self_pairs:
+            geom.addCollisionPair(pin.CollisionPair(index[a], index[b]))
+        for i, obj in enumerate(geom.geometryObjects):
+            if obj.name.startswith("env/"):
+                for r in index.values():
+                    geom.addCollisionPair(pin.CollisionPair(r, i))
+        problem = Problem(device)
+        # The problem and the device stay referenced: the steering method holds only a weak
+        # pointer to them.
+        return problem.steeringMethod(), Dichotomy(device, 0.0), problem, device
+
+    @staticmethod
+    def path_is_free(checker, q0, q1):
+        steer, validation = checker[:2]
+        valid, _, _ = validation.validate(steer(q0, q1), False)
+        return valid
+
+
 def plan(robot, q_start, q_goal, valid, motion_free, timeout):
     """RRT-Connect from q_start to q_goal with OMPL: `valid(q)` checks states, `motion_free(a, b)`
     checks edges (None: OMPL's DiscreteMotionValidator at its default resolution, 1% of the
@@ -307,6 +421,7 @@ def run(args):
         ours = Tocsin(urdf, srdf)
         theirs = Pinocchio(urdf, robot=ours.robot)
         robot = ours.robot
+        hpp = Hpp(urdf, srdf, robot) if args.hpp else None
         limits = robot.joint_limits
         lo, hi = limits[:, 0], limits[:, 1]
         # A continuous joint has infinite limits; a planner bounds it to one turn.
@@ -314,8 +429,11 @@ def run(args):
         extent = float(np.linalg.norm(span))
         assert theirs.model.nq == robot.dof, (theirs.model.nq, robot.dof)
         for scenario, items in sorted(problems(resources, robot_name, args.problems).items()):
-            stats = {k: [] for k in ("t_free", "t_coll", "p_free", "p_coll", "t_cfg", "p_cfg", "t_goal", "p_goal")}
-            counts = {"free": 0, "coll": 0, "miss": 0, "unconfirmed": 0, "extra": 0, "edges": 0}
+            stats = {
+                k: []
+                for k in ("t_free", "t_coll", "p_free", "p_coll", "t_cfg", "p_cfg", "t_goal", "p_goal", "h_free", "h_coll", "h_goal")
+            }
+            counts = {"free": 0, "coll": 0, "miss": 0, "unconfirmed": 0, "extra": 0, "edges": 0, "h_differ": 0}
             for scene_yaml, request in items:
                 scene = ours.scene(scene_yaml)
                 geom = theirs.scene(scene_yaml)
@@ -324,6 +442,7 @@ def run(args):
                 q_start = np.array([values[n] for n in robot.joint_names])
                 goal = {c["joint_name"]: c["position"] for c in request["goal_constraints"][0]["joint_constraints"]}
                 q_goal = np.array([goal[n] for n in robot.joint_names])
+                checker = hpp.scene(scene_yaml, q_start) if hpp else None
                 # Single configurations, interleaved.
                 for _ in range(5):
                     t0 = time.perf_counter()
@@ -338,24 +457,39 @@ def run(args):
                     u = rng.normal(size=robot.dof)
                     edges.append((q_start, np.clip(q_start + 0.5 * u / np.linalg.norm(u), lo, hi), False))
                 edges.append((q_start, q_goal, True))
-                for q0, q1, is_goal in edges:
-                    counts["edges"] += 1
-                    t0 = time.perf_counter()
-                    free = robot.path_is_free(q0, q1, scene)
-                    t1 = time.perf_counter()
+                # Each checker runs the scene's edges as a block, as a planner's loop would
+                # call it (edge by edge the three evict each other's caches: measured, tocsin's
+                # free-edge medians rose 1.3 to 2x with HPP's checks between its own); the
+                # blocks alternate scene by scene.
+                def timed(check):
+                    out = []
+                    for q0, q1, _ in edges:
+                        t0 = time.perf_counter()
+                        verdict = check(q0, q1)
+                        out.append((verdict, (time.perf_counter() - t0) * 1e6))
+                    return out
+
+                def sampled(q0, q1):
                     n = max(1, math.ceil(np.linalg.norm(q1 - q0) / (0.01 * extent)))
-                    sampled_free = True
-                    for k in range(1, n + 1):
-                        if theirs.in_collision(geom, q0 + (k / n) * (q1 - q0)):
-                            sampled_free = False
-                            break
-                    t2 = time.perf_counter()
+                    return not any(theirs.in_collision(geom, q0 + (k / n) * (q1 - q0)) for k in range(1, n + 1))
+
+                ours_out = timed(lambda q0, q1: robot.path_is_free(q0, q1, scene))
+                sampled_out = timed(sampled)
+                hpp_out = timed(lambda q0, q1: Hpp.path_is_free(checker, q0, q1)) if checker else None
+                for k, ((q0, q1, is_goal), (free, t_ours), (sampled_free, t_sampled)) in enumerate(
+                    zip(edges, ours_out, sampled_out)
+                ):
+                    counts["edges"] += 1
+                    if hpp_out is not None:
+                        hpp_free, t_hpp = hpp_out[k]
+                        stats["h_goal" if is_goal else "h_free" if hpp_free else "h_coll"].append(t_hpp)
+                        counts["h_differ"] += hpp_free != free
                     if is_goal:
-                        stats["t_goal"].append((t1 - t0) * 1e6)
-                        stats["p_goal"].append((t2 - t1) * 1e6)
+                        stats["t_goal"].append(t_ours)
+                        stats["p_goal"].append(t_sampled)
                     else:
-                        stats["t_free" if free else "t_coll"].append((t1 - t0) * 1e6)
-                        stats["p_free" if sampled_free else "p_coll"].append((t2 - t1) * 1e6)
+                        stats["t_free" if free else "t_coll"].append(t_ours)
+                        stats["p_free" if sampled_free else "p_coll"].append(t_sampled)
                     counts["free" if free else "coll"] += 1
                     if sampled_free and not free:
                         dense = any(
@@ -394,6 +528,22 @@ def table(rows, args):
             f"{f(r['p_free'])} | {f(r['p_coll'])} | {f(r['t_goal'])} | {f(r['p_goal'])} | {f(r['t_cfg'])} | "
             f"{f(r['p_cfg'])} | {r['miss']} / {r['unconfirmed']} / {r['extra']} |"
         )
+    if args.hpp:
+        lines += [
+            "",
+            "Beside HPP's exact path validation (hpp-core `Dichotomy`, tolerance 0, same geometry and pairs), "
+            "the same edges in the same run; HPP's edges are sorted by HPP's own verdict.",
+            "",
+            "| robot | scenario | tocsin free edge | HPP free edge | HPP / tocsin (free medians) | tocsin colliding edge | "
+            "HPP colliding edge | tocsin start-goal | HPP start-goal | verdicts that differ |",
+            "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|",
+        ]
+        for r in rows:
+            ratio = r["h_free"][0] / r["t_free"][0] if r["h_free"][0] == r["h_free"][0] else float("nan")
+            lines.append(
+                f"| {r['robot']} | {r['scenario']} | {f(r['t_free'])} | {f(r['h_free'])} | {ratio:.1f}x | "
+                f"{f(r['t_coll'])} | {f(r['h_coll'])} | {f(r['t_goal'])} | {f(r['h_goal'])} | {r['h_differ']} |"
+            )
     return "\n".join(lines)
 
 
@@ -407,7 +557,12 @@ def main():
     parser.add_argument("--plan-timeout", type=float, default=10.0)
     parser.add_argument("--plan-robots", default="panda,ur5,fetch")
     parser.add_argument("--out")
+    parser.add_argument(
+        "--no-hpp", dest="hpp", action="store_false", help="leave out HPP's exact path validation (hpp-python)"
+    )
     args = parser.parse_args()
+    if args.hpp and not hpp_importable():
+        raise SystemExit("pyhpp does not import: pip install hpp-python, or pass --no-hpp")
     text = table(run(args), args) if args.problems > 0 else ""
     if args.plans > 0:
         text += "\n" + plans(args)
