@@ -1,8 +1,12 @@
 //! One C2A iteration: the largest step `dt` certified safe by the two hierarchies at time `t`.
 //!
 //! Invariant: every node pair left unvisited has a certified step `s` with
-//! `s (1 + slack) >= best`, and the step returned is `best / (1 + slack)`, so it is safe for
-//! every triangle pair. A triangle pair within `delta` ends the search.
+//! `s (1 + slack) >= best`, so `best / (1 + slack)` would be safe for every triangle pair. The
+//! step returned is larger where it can be: the smallest of `best` (every evaluated triangle
+//! pair's step is at least that) and the certified steps of the pairs actually left unvisited
+//! (`pruned`: each was computed before the pair was dropped, and is a certificate for every
+//! triangle pair below it), never more than the window. A triangle pair within `delta` ends the
+//! search.
 
 use super::shells::AxisShells;
 use super::Path;
@@ -54,6 +58,8 @@ pub(crate) struct StepSearch<'a> {
     /// Length of the time window the bounds are valid for (steps never exceed it).
     window: f64,
     best: f64,
+    /// The smallest certified step of the pairs left unvisited (pruned by the slack).
+    pruned: f64,
     best_pair: Option<(u32, u32)>,
     closest: f64,
     slack: f64,
@@ -220,6 +226,7 @@ impl<'a> StepSearch<'a> {
             lanes: Lanes4::detect(),
             window: 1.0,
             best: 0.0,
+            pruned: f64::INFINITY,
             best_pair: None,
             closest: f64::INFINITY,
             slack: 0.0,
@@ -389,6 +396,7 @@ impl<'a> StepSearch<'a> {
         self.t = t;
         self.slack = slack;
         self.best = window * (1.0 + slack);
+        self.pruned = f64::INFINITY;
         self.best_pair = None;
         self.closest = f64::INFINITY;
         if let Some((l1, l2)) = warm {
@@ -411,6 +419,7 @@ impl<'a> StepSearch<'a> {
         self.stack.push((0, 0, self.node_step(0, 0, &root)));
         while let Some((n1, n2, s)) = self.stack.pop() {
             if s * (1.0 + self.slack) >= self.best {
+                self.pruned = self.pruned.min(s);
                 continue;
             }
             let (a, b): (&Node, &Node) = (&nodes1[n1 as usize], &nodes2[n2 as usize]);
@@ -461,6 +470,8 @@ impl<'a> StepSearch<'a> {
             for c in [second, first] {
                 if c.2 * (1.0 + self.slack) < self.best {
                     self.stack.push(c);
+                } else {
+                    self.pruned = self.pruned.min(c.2);
                 }
             }
         }
@@ -468,7 +479,7 @@ impl<'a> StepSearch<'a> {
             self.shells_on = self.rotation_limited(l1, l2);
         }
         StepOutcome::Step {
-            dt: self.best / (1.0 + self.slack),
+            dt: self.best.min(self.pruned).min(self.window),
             pair: self.best_pair,
             distance: self.closest,
         }
@@ -508,6 +519,7 @@ impl<'a> StepSearch<'a> {
                 margin / speed
             };
             if step >= keep {
+                self.pruned = self.pruned.min(step);
                 continue;
             }
             let u = Vec3::new(bounds.axis[0][k], bounds.axis[1][k], bounds.axis[2][k]);
@@ -527,6 +539,8 @@ impl<'a> StepSearch<'a> {
             if step < keep {
                 children[m] = (c1, c2, step);
                 m += 1;
+            } else {
+                self.pruned = self.pruned.min(step);
             }
         }
         let children = &mut children[..m];
