@@ -5,7 +5,7 @@
 //!
 //! 1. **Pairs.** The robot's self pairs (see [`Robot`]) and every (robot object, obstacle) pair.
 //! 2. **Swept volumes (temporal culling).** A binary subdivision of `[0, 1]`, down to
-//!    [`RobotOptions::cull_depth`] levels (pieces of 1/8 by default), evaluated only where
+//!    [`RobotOptions::cull_depth`] levels (pieces of 1/16 by default), evaluated only where
 //!    needed. On a piece `[ta, tb]` an object lies within `v (tb - ta) / 2` of where it is at the
 //!    middle time, `v` its largest speed over the segment (the chain bound of `chain.rs`), so if
 //!    the two root volumes at the middle time are farther apart (separating-axis bound) than the
@@ -115,9 +115,12 @@ pub struct RobotOptions {
     /// Iteration cap of each pair's advancement (>= 1). Default 1000.
     pub max_iterations: usize,
     /// Levels of the binary time subdivision of the culling (module docs; 0 to 20): pieces of
-    /// `2^-cull_depth` of the segment at the finest. Default 3: on MotionBenchMaker's Panda
-    /// (100 random 0.5 rad edges per scenario, instructions of `path_is_free`), depth 3 took
-    /// 0.2 to 17% less than 4 in five scenarios, depth 2 and 5 more than 3 in four of them.
+    /// `2^-cull_depth` of the segment at the finest. Default 4. Measured on MotionBenchMaker's
+    /// Panda: depth 3 checks random 0.5 rad edges with 0.2 to 17% fewer instructions, but
+    /// start-to-goal edges (long, colliding half way) 2 to 4 times slower in three of seven
+    /// scenarios: the probes at the spans' ends and middles move with the depth, and where
+    /// none lands in the collision the advancement has to converge to it (docs/BENCHMARKS.md,
+    /// tenth session).
     pub cull_depth: u32,
 }
 
@@ -126,7 +129,7 @@ impl Default for RobotOptions {
         Self {
             tolerance: None,
             max_iterations: 1000,
-            cull_depth: 3,
+            cull_depth: 4,
         }
     }
 }
