@@ -213,8 +213,14 @@ class Hpp:
 
     def __init__(self, urdf, srdf, robot):
         urdf = pathlib.Path(urdf)
-        # package://meshes/... in the MotionBenchMaker URDFs: the folder beside the URDF.
-        self.urdf_text = urdf.read_text().replace("package://meshes/", str(urdf.parent / "meshes") + "/")
+        # The MotionBenchMaker URDFs name meshes as package://meshes/... or meshes/...: both
+        # are the folder beside the URDF (HPP resolves neither against it).
+        folder = str(urdf.parent / "meshes") + "/"
+        self.urdf_text = (
+            urdf.read_text()
+            .replace('filename="package://meshes/', 'filename="' + folder)
+            .replace('filename="meshes/', 'filename="' + folder)
+        )
         self.srdf_text = pathlib.Path(srdf).read_text()
         self.robot = robot
         self.bvhs = {}
@@ -539,9 +545,10 @@ def table(rows, args):
             "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|",
         ]
         for r in rows:
-            ratio = r["h_free"][0] / r["t_free"][0] if r["h_free"][0] == r["h_free"][0] else float("nan")
+            ratio = r["h_free"][0] / r["t_free"][0]
+            ratio = "-" if math.isnan(ratio) else f"{ratio:.1f}x"
             lines.append(
-                f"| {r['robot']} | {r['scenario']} | {f(r['t_free'])} | {f(r['h_free'])} | {ratio:.1f}x | "
+                f"| {r['robot']} | {r['scenario']} | {f(r['t_free'])} | {f(r['h_free'])} | {ratio} | "
                 f"{f(r['t_coll'])} | {f(r['h_coll'])} | {f(r['t_goal'])} | {f(r['h_goal'])} | {r['h_differ']} |"
             )
     return "\n".join(lines)
