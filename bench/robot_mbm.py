@@ -106,6 +106,18 @@ def obstacles(scene):
             yield obj["id"], prim["type"], prim["dimensions"], m
 
 
+def coal_bvh(mesh):
+    """A coal BVH (OBBRSS) of a tocsin mesh's triangles."""
+    import coal
+
+    bvh = coal.BVHModelOBBRSS()
+    bvh.beginModel(mesh.num_triangles, mesh.num_vertices)
+    bvh.addVertices(np.ascontiguousarray(mesh.vertices))
+    bvh.addTriangles(np.ascontiguousarray(mesh.triangles.astype(np.int64)))
+    bvh.endModel()
+    return bvh
+
+
 class Tocsin:
     def __init__(self, urdf, srdf):
         self.robot = tocsin.Robot.from_urdf(urdf, srdf=srdf)
@@ -133,7 +145,6 @@ class Pinocchio:
     body, and the checked pairs are tocsin's (the SRDF gives both the same 21 on the Panda)."""
 
     def __init__(self, urdf, robot):
-        import coal
         import pinocchio as pin
 
         self.pin = pin
@@ -141,12 +152,7 @@ class Pinocchio:
         self.robot_geom = pin.GeometryModel()
         index = {}
         for name in robot.object_names:
-            mesh = robot.object_mesh(name)
-            bvh = coal.BVHModelOBBRSS()
-            bvh.beginModel(mesh.num_triangles, mesh.num_vertices)
-            bvh.addVertices(np.ascontiguousarray(mesh.vertices))
-            bvh.addTriangles(np.ascontiguousarray(mesh.triangles.astype(np.int64)))
-            bvh.endModel()
+            bvh = coal_bvh(robot.object_mesh(name))
             frame_id = self.model.getFrameId(name)
             joint = self.model.frames[frame_id].parentJoint
             obj = pin.GeometryObject(name, joint, frame_id, pin.SE3.Identity(), bvh)
@@ -223,17 +229,7 @@ class Hpp:
         )
         self.srdf_text = pathlib.Path(srdf).read_text()
         self.robot = robot
-        self.bvhs = {}
-        import coal
-
-        for name in robot.object_names:
-            mesh = robot.object_mesh(name)
-            bvh = coal.BVHModelOBBRSS()
-            bvh.beginModel(mesh.num_triangles, mesh.num_vertices)
-            bvh.addVertices(np.ascontiguousarray(mesh.vertices))
-            bvh.addTriangles(np.ascontiguousarray(mesh.triangles.astype(np.int64)))
-            bvh.endModel()
-            self.bvhs[name] = bvh
+        self.bvhs = {name: coal_bvh(robot.object_mesh(name)) for name in robot.object_names}
 
     def scene(self, scene, q_ref):
         import pinocchio as pin

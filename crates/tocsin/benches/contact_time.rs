@@ -14,14 +14,12 @@
 #![allow(clippy::unwrap_used, clippy::panic)]
 
 mod common;
-use common::unit;
+use common::contact_queries;
 
-use rand::{Rng, SeedableRng};
-use rand_chacha::ChaCha8Rng;
 use std::time::Instant;
 use tocsin::{
-    collide, distance, mesh, time_of_contact, ContactOptions, DistanceOptions, Mat3, Motion, Pose,
-    TriMesh, Vec3,
+    collide, distance, mesh, time_of_contact, ContactOptions, DistanceOptions, Motion, Pose,
+    TriMesh,
 };
 
 fn pybullet_data() -> Option<std::path::PathBuf> {
@@ -62,31 +60,6 @@ fn models() -> Vec<(String, TriMesh)> {
     out
 }
 
-/// Body 1's motion of the given kind from `start` to `end`, rotating by `angle` about `axis`.
-fn motion(kind: usize, from: Vec3, to: Vec3, axis: Vec3, angle: f64) -> Motion {
-    let r0 = Mat3::from_axis_angle(axis.any_orthonormal_vector(), 0.4);
-    let start = Pose {
-        rotation: r0,
-        translation: from,
-    };
-    let end = Pose {
-        rotation: Mat3::from_axis_angle(axis, angle) * r0,
-        translation: to,
-    };
-    match kind {
-        0 => Motion::translation(
-            start,
-            Pose {
-                rotation: r0,
-                translation: to,
-            },
-        )
-        .unwrap(),
-        1 => Motion::interp(start, end, Vec3::ZERO).unwrap(),
-        _ => Motion::screw(start, end).unwrap(),
-    }
-}
-
 struct Oracle {
     first: Option<f64>,
 }
@@ -112,47 +85,6 @@ fn oracle(m: &TriMesh, mo: &Motion) -> Oracle {
     Oracle { first: None }
 }
 
-/// A pass of body 1 from `from` to `to`, turning by `angle` about `axis`.
-#[derive(Clone, Copy)]
-struct Pass {
-    kind: usize,
-    from: Vec3,
-    to: Vec3,
-    axis: Vec3,
-    angle: f64,
-}
-
-impl Pass {
-    fn shifted(&self, by: Vec3) -> Motion {
-        motion(
-            self.kind,
-            self.from + by,
-            self.to + by,
-            self.axis,
-            self.angle,
-        )
-    }
-}
-
-/// The pass shifted sideways to where body 1 just stops colliding (bisection on 200 samples),
-/// plus 1% of the radius: a near miss.
-fn near_miss(m: &TriMesh, pass: Pass, side: Vec3, r: f64) -> Motion {
-    let collides = |o: f64| {
-        let mo = pass.shifted(side * o);
-        (0..=200).any(|k| collide(m, &mo.pose_at(k as f64 / 200.0), m, &Pose::IDENTITY))
-    };
-    let (mut lo, mut hi) = (0.0, 3.0 * r);
-    for _ in 0..30 {
-        let mid = 0.5 * (lo + hi);
-        if collides(mid) {
-            lo = mid
-        } else {
-            hi = mid
-        }
-    }
-    pass.shifted(side * (hi + 0.01 * r))
-}
-
 fn percentile(v: &mut [f64], p: f64) -> f64 {
     v.sort_by(f64::total_cmp);
     v[((v.len() - 1) as f64 * p).round() as usize]
@@ -164,32 +96,14 @@ fn main() {
     println!("| model | triangles | motion | median (us) | p90 (us) | median iterations | contacts | misses | late | false positives |");
     println!("|---|---:|---|---:|---:|---:|---:|---:|---:|---:|");
     for (name, m) in models() {
-        let r = m.bounding_radius();
         let opts = ContactOptions::default();
         let still = Motion::stationary(Pose::IDENTITY);
         let delta = tocsin::query::contact_time::effective_tolerance(&m, &still, &m, &still, &opts);
         for (kind, kind_name) in [(0, "translation"), (1, "interp"), (2, "screw")] {
-            let mut rng = ChaCha8Rng::seed_from_u64(7 + kind as u64);
+            let queries = contact_queries(&m, kind, n_through, n_near);
             let (mut times, mut iters) = (Vec::new(), Vec::new());
             let (mut contacts, mut misses, mut late, mut fps) = (0, 0, 0, 0);
-            for q in 0..n_through + n_near {
-                let d = unit(&mut rng);
-                let axis = unit(&mut rng);
-                let angle = rng.random_range(30f64..90.0).to_radians();
-                let lateral = unit(&mut rng).cross(d).normalize() * rng.random_range(0.0..0.2) * r;
-                let (from, to) = (-2.5 * r * d + lateral, 2.5 * r * d - lateral);
-                let mo = if q < n_through {
-                    motion(kind, from, to, axis, angle)
-                } else {
-                    let pass = Pass {
-                        kind,
-                        from: -2.5 * r * d,
-                        to: 2.5 * r * d,
-                        axis,
-                        angle,
-                    };
-                    near_miss(&m, pass, unit(&mut rng).cross(d).normalize(), r)
-                };
+            for mo in queries {
                 let still = Motion::stationary(Pose::IDENTITY);
                 let start = Instant::now();
                 let result = time_of_contact(&m, &mo, &m, &still, &opts).unwrap();

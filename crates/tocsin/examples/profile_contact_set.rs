@@ -7,103 +7,24 @@
 //! `cargo run --release --example profile_contact_set [model] [repeats]`, model one of
 //! knot2.8k, knot34k (default), sphere, or a mesh file (.obj, .stl: the bunny or a Panda link
 //! of pybullet_data); `ONLY=toc|free` runs only that call (for callgrind).
-use rand::{Rng, SeedableRng};
-use rand_chacha::ChaCha8Rng;
+#[path = "../benches/common/mod.rs"]
+mod common;
+
 use std::time::Instant;
 use tocsin::{
-    collide, distance_with_cache, mesh, motion_is_free, time_of_contact, ContactOptions,
-    DistanceCache, DistanceOptions, Mat3, Motion, Pose, TriMesh, Vec3,
+    distance_with_cache, mesh, motion_is_free, time_of_contact, ContactOptions, DistanceCache,
+    DistanceOptions, Motion, Pose, TriMesh,
 };
 
-fn unit(rng: &mut ChaCha8Rng) -> Vec3 {
-    loop {
-        let v = Vec3::new(
-            rng.random_range(-1.0..1.0),
-            rng.random_range(-1.0..1.0),
-            rng.random_range(-1.0..1.0),
-        );
-        if v.length() > 0.2 && v.length() <= 1.0 {
-            return v.normalize();
-        }
-    }
-}
-
-fn motion(kind: usize, from: Vec3, to: Vec3, axis: Vec3, angle: f64) -> Option<Motion> {
-    let r0 = Mat3::from_axis_angle(axis.any_orthonormal_vector(), 0.4);
-    let start = Pose {
-        rotation: r0,
-        translation: from,
-    };
-    let end = Pose {
-        rotation: Mat3::from_axis_angle(axis, angle) * r0,
-        translation: to,
-    };
-    match kind {
-        0 => Motion::translation(
-            start,
-            Pose {
-                rotation: r0,
-                translation: to,
-            },
-        )
-        .ok(),
-        1 => Motion::interp(start, end, Vec3::ZERO).ok(),
-        _ => Motion::screw(start, end).ok(),
-    }
-}
-
+/// The bench's 30 passes and 20 near misses of each motion kind, tagged with the kind.
 fn queries(m: &TriMesh) -> Vec<(usize, Motion)> {
-    let r = m.bounding_radius();
-    let mut out = Vec::new();
-    for kind in 0..3 {
-        let mut rng = ChaCha8Rng::seed_from_u64(7 + kind as u64);
-        for q in 0..50 {
-            let d = unit(&mut rng);
-            let axis = unit(&mut rng);
-            let angle = rng.random_range(30f64..90.0).to_radians();
-            let lateral = unit(&mut rng).cross(d).normalize() * rng.random_range(0.0..0.2) * r;
-            let mo = if q < 30 {
-                motion(
-                    kind,
-                    -2.5 * r * d + lateral,
-                    2.5 * r * d - lateral,
-                    axis,
-                    angle,
-                )
-            } else {
-                let side = unit(&mut rng).cross(d).normalize();
-                let shifted = |o: f64| {
-                    motion(
-                        kind,
-                        -2.5 * r * d + side * o,
-                        2.5 * r * d + side * o,
-                        axis,
-                        angle,
-                    )
-                };
-                let collides = |o: f64| {
-                    shifted(o).is_some_and(|mo| {
-                        (0..=200)
-                            .any(|k| collide(m, &mo.pose_at(k as f64 / 200.0), m, &Pose::IDENTITY))
-                    })
-                };
-                let (mut lo, mut hi) = (0.0, 3.0 * r);
-                for _ in 0..30 {
-                    let mid = 0.5 * (lo + hi);
-                    if collides(mid) {
-                        lo = mid
-                    } else {
-                        hi = mid
-                    }
-                }
-                shifted(hi + 0.01 * r)
-            };
-            if let Some(mo) = mo {
-                out.push((kind, mo));
-            }
-        }
-    }
-    out
+    (0..3)
+        .flat_map(|kind| {
+            common::contact_queries(m, kind, 30, 20)
+                .into_iter()
+                .map(move |mo| (kind, mo))
+        })
+        .collect()
 }
 
 fn median(mut v: Vec<f64>) -> f64 {
@@ -147,26 +68,17 @@ fn main() {
                 if let Some(c) = c {
                     iters[*kind].push(c.iterations as f64);
                     if only.is_empty() {
-                        let mut cache = DistanceCache::default();
                         let p = mo.pose_at(c.time);
-                        // Warm from the pair the advancement ended on, as `finish` is.
-                        let _ = distance_with_cache(
-                            &m,
-                            &p,
-                            &m,
-                            &Pose::IDENTITY,
-                            &DistanceOptions::default(),
-                            &mut cache,
-                        );
+                        let opts = DistanceOptions::default();
+                        let mut cache = DistanceCache::default();
+                        let closest = |cache: &mut DistanceCache| {
+                            distance_with_cache(&m, &p, &m, &Pose::IDENTITY, &opts, cache)
+                        };
+                        // An untimed call finds the closest pair; the timed one starts from
+                        // it, as `finish` starts from the pair the advancement ended on.
+                        let _ = closest(&mut cache);
                         let s = Instant::now();
-                        let _ = distance_with_cache(
-                            &m,
-                            &p,
-                            &m,
-                            &Pose::IDENTITY,
-                            &DistanceOptions::default(),
-                            &mut cache,
-                        );
+                        let _ = closest(&mut cache);
                         witness[*kind].push(s.elapsed().as_secs_f64() * 1e6);
                     }
                 }

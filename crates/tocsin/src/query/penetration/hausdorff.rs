@@ -5,19 +5,20 @@
 //! Branch and bound over pieces of A (Tang, Lee and Kim 2009 cull with the hierarchies in the
 //! same spirit): a lower bound `L` is the largest `d(a, B)` found at points `a` of A's surface
 //! (one exact point-to-mesh distance per piece: the centroid of the triangle in the middle of
-//! a node's leaf range, or of a (sub)triangle), and each piece of A keeps an upper bound on `d(a, B)` over the
-//! piece; pieces whose bound is at most `L + e` are dropped, the largest bound is split first.
-//! When the largest bound left is at most `L + e`, the true value lies in `[L, L + e]` and `L`
-//! is returned with its witness points.
+//! a node's leaf range, or of a (sub)triangle), and each piece of A keeps an upper bound on
+//! `d(a, B)` over the piece; pieces whose bound is at most `L + e` are dropped, the largest
+//! bound is split first. When the largest bound left is at most `L + e`, the true value lies in
+//! `[L, L + e]` and `L` is returned with its witness points.
 //!
 //! Upper bounds: the distance to a set is 1-Lipschitz, so a node of A whose volume has centre
-//! `o` and bounding radius `r` has `d(a, B) <= d(p, B) + |p - o| + r` for its sampled point `p`, and a triangle with
-//! centroid `c` and corners within `r` of it has `d(a, B) <= d(c, B) + r`. And the distance to
-//! one triangle `B_j` of B is convex and 1-Lipschitz: over a node's volume (its rectangle grown
-//! by its radius) `d(a, B) <= d(a, B_j)` is at most the largest `d(., B_j)` at the rectangle's
-//! corners plus the radius, and over a triangle `T` (and the four sub-triangles it is split
-//! into, recursively) `max over T of d(., B) = max over T of min_j d(., B_j) <= min_j max over
-//! T of d(., B_j)`, the maximum of each `d(., B_j)` over `T` being at a corner. The triangles
+//! `o` and bounding radius `r` has `d(a, B) <= d(p, B) + |p - o| + r` for its sampled point
+//! `p`, and a triangle with centroid `c` and corners within `r` of it has
+//! `d(a, B) <= d(c, B) + r`. And the distance to one triangle `B_j` of B is convex and
+//! 1-Lipschitz: over a node's volume (its rectangle grown by its radius) `d(a, B) <= d(a, B_j)`
+//! is at most the largest `d(., B_j)` at the rectangle's corners plus the radius, and over a
+//! triangle `T` (and the four sub-triangles it is split into, recursively)
+//! `max over T of d(., B) = max over T of min_j d(., B_j) <= min_j max over T of d(., B_j)`,
+//! the maximum of each `d(., B_j)` over `T` being at a corner. The triangles
 //! of B tried for `j`: the one closest to the piece's sampled point and the two its parent
 //! tried (neighbouring points have neighbouring closest triangles). Where one triangle of B
 //! lies under all of `T` (two parallel plates) this is exact at once, where the Lipschitz

@@ -152,8 +152,8 @@ impl Inside<'_> {
 
 /// The pointwise penetration depth of two placed meshes, within `max_error` (module docs):
 /// the largest distance from a point of one surface inside the other body to the other
-/// surface. Inside is the winding number's (magnitude above 1/2); a piece of a surface that does not meet
-/// the other surface is classified by its centroid, exact for closed meshes.
+/// surface. Inside is the winding number's (magnitude above 1/2); a piece of a surface that
+/// does not meet the other surface is classified by its centroid, exact for closed meshes.
 ///
 /// # Errors
 /// [`OptionsError`] when `max_error` is not positive and finite.
