@@ -27,15 +27,6 @@ fn queries(m: &TriMesh) -> Vec<(usize, Motion)> {
         .collect()
 }
 
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    if v.is_empty() {
-        0.0
-    } else {
-        v[v.len() / 2]
-    }
-}
-
 fn main() {
     let args: Vec<String> = std::env::args().collect();
     let model = args.get(1).map_or("knot34k", String::as_str);
@@ -94,10 +85,10 @@ fn main() {
     for (k, name) in ["translation", "interp", "screw"].iter().enumerate() {
         println!(
             "| {name} | {:.0} | {:.0} | {:.0} | {:.0} |",
-            median(toc[k].clone()),
-            median(free[k].clone()),
-            median(witness[k].clone()),
-            median(iters[k].clone())
+            common::median(toc[k].clone()),
+            common::median(free[k].clone()),
+            common::median(witness[k].clone()),
+            common::median(iters[k].clone())
         );
     }
 }

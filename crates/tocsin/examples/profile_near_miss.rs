@@ -59,11 +59,6 @@ fn min_distance(m: &TriMesh, mo: &Motion) -> f64 {
     d_best
 }
 
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    v.get(v.len() / 2).copied().unwrap_or(f64::NAN)
-}
-
 fn main() {
     let args: Vec<String> = std::env::args().collect();
     let model = args.get(1).map_or("knot34k", String::as_str);
@@ -199,9 +194,9 @@ fn main() {
                 names[kind],
                 c * 100.0,
                 queries.len(),
-                median(free_t),
-                median(toc_t),
-                median(iters),
+                common::median(free_t),
+                common::median(toc_t),
+                common::median(iters),
                 if all_free { "yes" } else { "NO" }
             );
         }

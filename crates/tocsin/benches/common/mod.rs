@@ -21,6 +21,13 @@ pub fn unit(rng: &mut ChaCha8Rng) -> Vec3 {
     }
 }
 
+/// The median of `v` (the upper one of an even count); 0 when `v` is empty (a column a run
+/// did not measure).
+pub fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v.get(v.len() / 2).copied().unwrap_or(0.0)
+}
+
 /// Body 1's motion of the given kind (0 translation, 1 interp, 2 screw) from `from` to `to`,
 /// rotating by `angle` about `axis` (none for a translation).
 pub fn motion(kind: usize, from: Vec3, to: Vec3, axis: Vec3, angle: f64) -> Option<Motion> {
