@@ -49,12 +49,13 @@ fn min_distance(m: &TriMesh, mo: &Motion) -> f64 {
     let g = 0.5 * (5f64.sqrt() - 1.0);
     for _ in 0..60 {
         let (x1, x2) = (b - g * (b - a), a + g * (b - a));
-        if d(x1) < d(x2) {
+        let (d1, d2) = (d(x1), d(x2));
+        if d1 < d2 {
             b = x2;
         } else {
             a = x1;
         }
-        d_best = d_best.min(d(x1)).min(d(x2));
+        d_best = d_best.min(d1).min(d2);
     }
     d_best
 }
