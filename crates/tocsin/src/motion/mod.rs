@@ -40,6 +40,11 @@
 //! `mu_h(n, S) = n . v + (C(t) - A(t)) . (n x w) + |n x w| (R + |w| h rho)`: the centre's exact
 //! velocity along `n` plus two small terms. It is much tighter than `mu` when the rotation axis
 //! is far from the body (screws), and it never exceeds `mu` by more than `|n x w| |w| h rho`.
+//! The term `|n x w| R` is the ball's reach along `n x w`; the step search takes a hierarchy
+//! volume's own reach there instead (its support along `n x w`, [`Spread`]): the points of a
+//! rectangle swept by a ball are `C + x e1 + y e2 + z`, so `(p - C) . g <= h1 |e1 . g| +
+//! h2 |e2 . g| + r |g|`, which never exceeds `(h1 + h2 + r) |g|` and is about half of it for
+//! a thin or flat volume.
 //!
 //! The rotation angle is taken in `[0, pi]`. At exactly `pi` both senses of rotation are
 //! geodesics; the axis is then taken from `(R + I) / 2` with its largest component positive.
@@ -363,6 +368,60 @@ impl Motion {
     /// direction (for a time-independent bound).
     pub fn speed_bound(&self, axis_distance: f64) -> f64 {
         self.linear.length() + self.angular.length() * axis_distance
+    }
+}
+
+/// How far a set of body points reaches from its centre along any direction, for the
+/// directional motion bounds: the points `c + x e1 + y e2 + z` with `|x| <= h1`, `|y| <= h2` and
+/// `|z| <= r` (a rectangle swept by a ball, the hierarchy's volumes; a ball has `h1 = h2 = 0`).
+/// The rotation terms of the bounds are linear in the point, so over the set they reach their
+/// largest at the centre's value plus the set's support along the term's direction; the
+/// support is at most (and for a thin or flat volume often half) the bounding radius
+/// `h1 + h2 + r` times the direction's length, which the bounds took before.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Spread {
+    e1: Vec3,
+    e2: Vec3,
+    h1: f64,
+    h2: f64,
+    r: f64,
+}
+
+impl Spread {
+    /// The ball of radius `r` about the centre.
+    #[inline]
+    pub(crate) fn ball(r: f64) -> Self {
+        Self {
+            e1: Vec3::ZERO,
+            e2: Vec3::ZERO,
+            h1: 0.0,
+            h2: 0.0,
+            r,
+        }
+    }
+
+    /// An RSS whose rectangle's unit edge directions are `e1`, `e2` (in the frame the bound is
+    /// evaluated in), half lengths `h1`, `h2`, sphere radius `r`.
+    #[inline]
+    pub(crate) fn rss(e1: Vec3, e2: Vec3, h1: f64, h2: f64, r: f64) -> Self {
+        Self { e1, e2, h1, h2, r }
+    }
+
+    /// The same set seen from another frame: `rotation` maps the set's frame into it.
+    #[inline]
+    pub(crate) fn turned(&self, rotation: &crate::math::Mat3) -> Self {
+        Self {
+            e1: *rotation * self.e1,
+            e2: *rotation * self.e2,
+            ..*self
+        }
+    }
+
+    /// `max (p - c) . g` over the set's points `p` (the set is symmetric about `c`, so also
+    /// `max |(p - c) . g|`).
+    #[inline]
+    pub(crate) fn support(&self, g: Vec3) -> f64 {
+        self.h1 * self.e1.dot(g).abs() + self.h2 * self.e2.dot(g).abs() + self.r * g.length()
     }
 }
 

@@ -36,11 +36,15 @@
 //! min(R_j, |c - o_j| + r + V_j h)`:
 //!
 //! ```text
-//! revolute:   dq_j f_j <= min( dq_j (c - o_j).(n x a_j) + |dq_j| (|n x a_j| r + h (Omega_j W_j + V_j)),
+//! revolute:   dq_j f_j <= min( dq_j (c - o_j).(n x a_j) + |dq_j| (S(n x a_j) + h (Omega_j W_j + V_j)),
 //!                              |dq_j| W_j )
 //! prismatic:  dq_j n.a_j(s) <= min( dq_j n.a_j(t) + |dq_j| Omega_j h, |dq_j| )
 //! ```
 //!
+//! where `S(g) = |g| r` for the ball; for a hierarchy volume (a rectangle swept by a ball,
+//! points `c + x e1 + y e2 + z`, `|x| <= h1`, `|y| <= h2`, `|z| <= rr`, bounding radius
+//! `r = h1 + h2 + rr`) the term `dq_j (x - c) . (n x a_j)` is linear in the point, so `S` is
+//! the volume's support `h1 |e1 . g| + h2 |e2 . g| + rr |g|` ([`Spread`]), at most `|g| r`;
 //! and the object's speed along `n` is at most the sum. For the first joint (`Omega = 0`, its
 //! axis fixed in the world) this is the seed's tight first-joint term with the lever of the
 //! node's actual position; the undirected speed is `sum_j |dq_j| W_j` (revolute) plus
@@ -48,6 +52,7 @@
 //! (revolute and prismatic, windows and balls) and checks it never exceeds the bound.
 
 use crate::math::{Pose, Vec3};
+use crate::motion::Spread;
 
 /// One moving joint of a chain, as a path sees it.
 #[derive(Clone, Copy, Debug)]
@@ -185,9 +190,10 @@ pub(crate) struct ChainKinematics {
 
 impl ChainKinematics {
     /// Bound on the speed along the unit `n` of the object's points within `radius` of
-    /// `center` (both in the evaluation frame), over a window `h` (module docs). May be
-    /// negative.
-    pub fn bound(&self, n: Vec3, center: Vec3, radius: f64, h: f64) -> f64 {
+    /// `center` (both in the evaluation frame), over a window `h` (module docs), the points'
+    /// reach across `n x a_j` taken from `spread` (in the same frame; at most `radius` in every
+    /// direction). May be negative.
+    pub fn bound(&self, n: Vec3, center: Vec3, radius: f64, spread: &Spread, h: f64) -> f64 {
         let mut total = 0.0;
         for j in &self.joints {
             if j.dq == 0.0 {
@@ -201,7 +207,7 @@ impl ChainKinematics {
                 let w = j.r_chain.min(u.length() + radius + j.v_rel * h);
                 let nxa = n.cross(j.axis);
                 let directional = j.dq * u.dot(nxa)
-                    + adq * (nxa.length() * radius + h * (j.omega_before * w + j.v_rel));
+                    + adq * (spread.support(nxa) + h * (j.omega_before * w + j.v_rel));
                 total += directional.min(adq * w);
             }
         }
@@ -249,7 +255,7 @@ mod tests {
     }
 
     /// The chain bound against the true speed (central differences of the pose, an independent
-    /// path through the code) on random chains, windows, balls and directions.
+    /// path through the code) on random chains, windows, balls, swept rectangles and directions.
     #[test]
     fn bound_holds_on_random_chains() {
         let mut rng = ChaCha8Rng::seed_from_u64(12);
@@ -274,7 +280,17 @@ mod tests {
                 })
                 .collect();
             let yc = unit(&mut rng) * rng.random_range(0.0..0.5);
+            // Half the cases a ball of radius r, half a rectangle swept by a ball (a volume
+            // of the hierarchy) whose bounding radius is r: its points are
+            // yc + x e1 + y e2 + z, |x| <= h1, |y| <= h2, |z| <= rr (body frame).
             let r = rng.random_range(0.0..0.2);
+            let rss = (case % 2 == 1).then(|| {
+                let e1 = unit(&mut rng);
+                let e2 = e1.cross(unit(&mut rng)).normalize();
+                let (a, b) = (rng.random_range(0.0..1.0), rng.random_range(0.0..1.0));
+                let (h1, h2, rr) = (r * a * (1.0 - b), r * (1.0 - a) * (1.0 - b), r * b);
+                (e1, e2, h1, h2, rr)
+            });
             let path = ChainPath::new(Pose::IDENTITY, steps, yc.length() + r);
             let t = rng.random_range(0.0..1.0);
             let h = rng.random_range(0.0..(1.0 - t)) * if case % 3 == 0 { 0.05 } else { 1.0 };
@@ -282,12 +298,29 @@ mod tests {
             path.kinematics_at(t, &Pose::IDENTITY, &mut kin);
             let c = path.pose_at(t).transform_point(yc);
             let n = unit(&mut rng);
-            let bound = kin.bound(n, c, r, h);
+            let rot = path.pose_at(t).rotation;
+            let spread = match rss {
+                Some((e1, e2, h1, h2, rr)) => Spread::rss(rot * e1, rot * e2, h1, h2, rr),
+                None => Spread::ball(r),
+            };
+            let bound = kin.bound(n, c, r, &spread, h);
             let speed = kin.speed(c, r, h);
             let eps = 1e-6;
             let mut worst = f64::NEG_INFINITY;
             for _ in 0..40 {
-                let y = yc + unit(&mut rng) * r * rng.random_range(0.0_f64..1.0).cbrt();
+                let y = match rss {
+                    // Corners and edges of the volume as often as its inside.
+                    Some((e1, e2, h1, h2, rr)) => {
+                        let mut side = || match rng.random_range(0..3) {
+                            0 => -1.0,
+                            1 => 1.0,
+                            _ => rng.random_range(-1.0..1.0),
+                        };
+                        let (x, z) = (side(), side());
+                        yc + e1 * h1 * x + e2 * h2 * z + unit(&mut rng) * rr
+                    }
+                    None => yc + unit(&mut rng) * r * rng.random_range(0.0_f64..1.0).cbrt(),
+                };
                 let s = t + h * rng.random_range(0.0..1.0);
                 let v = (path.pose_at(s + eps).transform_point(y)
                     - path.pose_at(s - eps).transform_point(y))

@@ -11,11 +11,11 @@
 use super::shells::AxisShells;
 use super::Path;
 use crate::bvh::{
-    rss_separation, ASide, BSide, Bvh, ColumnPair, Expansion, Lanes4, Node, RelativeRss,
+    rss_separation, ASide, BSide, Bvh, ColumnPair, Expansion, Lanes4, Node, RelativeRss, Rss,
     PROJECT_MAX,
 };
 use crate::math::{Mat3, Pose, Vec3};
-use crate::motion::Motion;
+use crate::motion::{Motion, Spread};
 use crate::query::distance::distance_triangle_triangle;
 use crate::robot::chain::ChainKinematics;
 use crate::TriMesh;
@@ -111,14 +111,19 @@ impl Kinematics {
     }
 
     /// The bound of [`Motion::directional_bound`] and [`Motion::directional_bound_window`],
-    /// the smaller of the two, along the unit `m` (mesh 1's frame) for points within `radius`
-    /// of a centre whose lever from the axis is `lever` (mesh 1's frame) and within `rho` of
-    /// the axis, over a window `h`.
+    /// the smaller of the two, along the unit `m` (mesh 1's frame) for the points of `spread`
+    /// (mesh 1's frame) about a centre whose lever from the axis is `lever` (mesh 1's frame),
+    /// all within `rho` of the axis, over a window `h`. The window bound's `|m x w| radius`
+    /// is the set's support along `m x w` ([`Spread`]): the velocity's rotation part
+    /// `(p - axis) . (m x w)` is linear in the point.
     #[inline]
-    fn bound(&self, m: Vec3, lever: Vec3, radius: f64, rho: f64, h: f64) -> f64 {
+    fn bound(&self, m: Vec3, lever: Vec3, support: impl Fn(Vec3) -> f64, rho: f64, h: f64) -> f64 {
         let mxw = m.cross(self.w);
         let k = mxw.length();
-        m.dot(self.v) + (k * rho).min(lever.dot(mxw) + k * (radius + self.w_len * h * rho))
+        if k == 0.0 {
+            return m.dot(self.v);
+        }
+        m.dot(self.v) + (k * rho).min(lever.dot(mxw) + support(mxw) + k * self.w_len * h * rho)
     }
 
     /// Speed bound of points within `rho` of the axis, in any direction.
@@ -154,17 +159,20 @@ impl BodyKinematics {
 
 /// A set of body points for the motion bounds: a ball (body frame) and a bound `rho` on the
 /// points' distance from the motion's rotation axis.
-struct PointSet {
+struct PointSet<'a> {
     center: Vec3,
     radius: f64,
     rho: f64,
+    /// The node's volume (`None`: a ball of `radius`), for the points' reach by direction.
+    rss: Option<&'a Rss>,
 }
 
-impl PointSet {
+impl<'a> PointSet<'a> {
     /// A node's volume: its RSS centre and bounding radius (on demand: a query touches few nodes).
     #[inline]
-    fn node(node: &Node, motion: Path<'_>) -> Self {
-        let (center, radius) = (node.rss.center, node.rss.bounding_radius());
+    fn node(node: &'a Node, motion: Path<'_>) -> Self {
+        let r = &node.rss;
+        let (center, radius) = (r.center, r.bounding_radius());
         let rho = match motion {
             Path::Rigid(m) => m.axis_distance(center) + radius,
             Path::Chain(_) => 0.0,
@@ -173,6 +181,22 @@ impl PointSet {
             center,
             radius,
             rho,
+            rss: Some(r),
+        }
+    }
+
+    /// The points' reach about the centre by direction (the body's frame).
+    #[inline]
+    fn spread(&self) -> Spread {
+        match self.rss {
+            Some(r) => Spread::rss(
+                r.axes.x_axis,
+                r.axes.y_axis,
+                r.half_lengths[0],
+                r.half_lengths[1],
+                r.radius,
+            ),
+            None => Spread::ball(self.radius),
         }
     }
 
@@ -191,6 +215,7 @@ impl PointSet {
             center,
             radius,
             rho,
+            rss: None,
         }
     }
 }
@@ -251,18 +276,26 @@ impl<'a> StepSearch<'a> {
             BodyKinematics::Rigid(k) if k.still => 0.0,
             BodyKinematics::Rigid(k) => {
                 let lever1 = s1.center - k.axis_point;
-                k.bound(n, lever1, s1.radius, s1.rho, h)
+                k.bound(n, lever1, |g| s1.spread().support(g), s1.rho, h)
             }
-            BodyKinematics::Chain(c) => c.bound(n, s1.center, s1.radius, h),
+            BodyKinematics::Chain(c) => c.bound(n, s1.center, s1.radius, &s1.spread(), h),
         };
         let mu2 = match &self.kin2 {
             BodyKinematics::Rigid(k) if k.still => 0.0,
             BodyKinematics::Rigid(k) => {
                 let lever2 = self.rot12 * (s2.center - k.axis_point);
-                k.bound(-n, lever2, s2.radius, s2.rho, h)
+                let support = |g: Vec3| s2.spread().support(self.rot21 * g);
+                k.bound(-n, lever2, support, s2.rho, h)
             }
             BodyKinematics::Chain(c) => {
-                c.bound(-n, self.rot12 * s2.center + self.trans12, s2.radius, h)
+                let spread = s2.spread().turned(&self.rot12);
+                c.bound(
+                    -n,
+                    self.rot12 * s2.center + self.trans12,
+                    s2.radius,
+                    &spread,
+                    h,
+                )
             }
         };
         let mu = mu1 + mu2;
@@ -626,5 +659,117 @@ impl<'a> StepSearch<'a> {
         let (c1, spread1) = parts(motion1, n, &self.rot1, &s1);
         let (c2, spread2) = parts(motion2, -n, &self.rot2, &s2);
         spread1 + spread2 > 4.0 * (c1 + c2).max(0.0)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::{Rng, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
+
+    fn unit(rng: &mut ChaCha8Rng) -> Vec3 {
+        loop {
+            let v = Vec3::new(
+                rng.random_range(-1.0..1.0),
+                rng.random_range(-1.0..1.0),
+                rng.random_range(-1.0..1.0),
+            );
+            if v.length() <= 1.0 {
+                if let Some(u) = v.try_normalize() {
+                    return u;
+                }
+            }
+        }
+    }
+
+    /// The rigid bound the step search uses, with a volume's support in place of its bounding
+    /// radius, against the true speed (forward differences of the motion's poses) of points
+    /// on the corners, edges and inside of random swept rectangles, over random windows of
+    /// translations, interps and screws, read in the body's own frame as the search reads
+    /// mesh 1.
+    #[test]
+    fn rigid_bound_holds_over_swept_rectangles() {
+        let mut rng = ChaCha8Rng::seed_from_u64(31);
+        let mut checked = 0;
+        for case in 0..600 {
+            let pose = |rng: &mut ChaCha8Rng| {
+                Pose::from_axis_angle(
+                    unit(rng),
+                    rng.random_range(-3.0..3.0),
+                    unit(rng) * rng.random_range(0.0..3.0),
+                )
+            };
+            let (a, b) = (pose(&mut rng), pose(&mut rng));
+            let c = unit(&mut rng) * rng.random_range(0.0..1.5);
+            let motion = match case % 3 {
+                0 => Motion::translation(
+                    a,
+                    Pose {
+                        rotation: a.rotation,
+                        translation: b.translation,
+                    },
+                ),
+                1 => Motion::interp(a, b, c),
+                _ => Motion::screw(a, b),
+            }
+            .expect("motion");
+            let t = rng.random_range(0.0..0.9);
+            let h = rng.random_range(0.001..(1.0 - t));
+            let rot = motion.pose_at(t).rotation;
+            let kin = Kinematics::new(&motion, &rot.transpose());
+            // The volume, body frame.
+            let center = unit(&mut rng) * rng.random_range(0.0..2.0);
+            let e1 = unit(&mut rng);
+            let e2 = e1.cross(unit(&mut rng)).normalize();
+            let (h1, h2, r) = (
+                rng.random_range(0.0..0.5),
+                rng.random_range(0.0..0.5),
+                rng.random_range(0.0..0.2),
+            );
+            let rss = Rss {
+                axes: Mat3::from_cols(e1, e2, e1.cross(e2)),
+                center,
+                half_lengths: [h1, h2],
+                radius: r,
+            };
+            let radius = rss.bounding_radius();
+            let set = PointSet {
+                center,
+                radius,
+                rho: motion.axis_distance(center) + radius,
+                rss: Some(&rss),
+            };
+            let m = unit(&mut rng);
+            let bound = kin.bound(
+                m,
+                set.center - kin.axis_point,
+                |g| set.spread().support(g),
+                set.rho,
+                h,
+            );
+            let n = rot * m;
+            for _ in 0..30 {
+                let mut side = || match rng.random_range(0..3) {
+                    0 => -1.0,
+                    1 => 1.0,
+                    _ => rng.random_range(-1.0..1.0),
+                };
+                let (x, y) = (side(), side());
+                let p = center + e1 * h1 * x + e2 * h2 * y + unit(&mut rng) * r;
+                let s = t + h * rng.random_range(0.0..1.0);
+                let eps = 1e-7;
+                let speed = n.dot(
+                    motion.pose_at(s + eps).transform_point(p)
+                        - motion.pose_at(s).transform_point(p),
+                ) / eps;
+                assert!(
+                    speed <= bound + 1e-4 * (1.0 + bound.abs()),
+                    "case {case}: speed {speed} along n above the bound {bound}"
+                );
+                checked += 1;
+            }
+        }
+        assert_eq!(checked, 18_000);
     }
 }
