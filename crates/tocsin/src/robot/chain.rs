@@ -299,12 +299,16 @@ mod tests {
             let c = path.pose_at(t).transform_point(yc);
             let n = unit(&mut rng);
             let rot = path.pose_at(t).rotation;
-            let spread = match rss {
-                Some((e1, e2, h1, h2, rr)) => Spread::rss(rot * e1, rot * e2, h1, h2, rr),
-                None => Spread::ball(r),
+            // The farthest the points reach from the centre (what the step search passes).
+            let (spread, reach) = match rss {
+                Some((e1, e2, h1, h2, rr)) => (
+                    Spread::rss(rot * e1, rot * e2, h1, h2, rr),
+                    (h1 * h1 + h2 * h2).sqrt() + rr,
+                ),
+                None => (Spread::ball(r), r),
             };
-            let bound = kin.bound(n, c, r, &spread, h);
-            let speed = kin.speed(c, r, h);
+            let bound = kin.bound(n, c, reach, &spread, h);
+            let speed = kin.speed(c, reach, h);
             let eps = 1e-6;
             let mut worst = f64::NEG_INFINITY;
             for _ in 0..40 {

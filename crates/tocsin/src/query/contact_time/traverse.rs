@@ -168,11 +168,19 @@ struct PointSet<'a> {
 }
 
 impl<'a> PointSet<'a> {
-    /// A node's volume: its RSS centre and bounding radius (on demand: a query touches few nodes).
+    /// A node's volume (on demand: a query touches few nodes).
     #[inline]
     fn node(node: &'a Node, motion: Path<'_>) -> Self {
-        let r = &node.rss;
-        let (center, radius) = (r.center, r.bounding_radius());
+        Self::volume(&node.rss, motion)
+    }
+
+    /// An RSS: its centre, the farthest its points reach from it (`sqrt(h1^2 + h2^2) + r`, the
+    /// rectangle's corner plus the ball; [`Rss::bounding_radius`] is the looser `h1 + h2 + r`),
+    /// and the volume itself for its support.
+    #[inline]
+    fn volume(r: &'a Rss, motion: Path<'_>) -> Self {
+        let [h1, h2] = r.half_lengths;
+        let (center, radius) = (r.center, (h1 * h1 + h2 * h2).sqrt() + r.radius);
         let rho = match motion {
             Path::Rigid(m) => m.axis_distance(center) + radius,
             Path::Chain(_) => 0.0,
@@ -733,13 +741,7 @@ mod tests {
                 half_lengths: [h1, h2],
                 radius: r,
             };
-            let radius = rss.bounding_radius();
-            let set = PointSet {
-                center,
-                radius,
-                rho: motion.axis_distance(center) + radius,
-                rss: Some(&rss),
-            };
+            let set = PointSet::volume(&rss, Path::Rigid(&motion));
             let m = unit(&mut rng);
             let bound = kin.bound(
                 m,
