@@ -41,7 +41,7 @@
 //! velocity along `n` plus two small terms. It is much tighter than `mu` when the rotation axis
 //! is far from the body (screws), and it never exceeds `mu` by more than `|n x w| |w| h rho`.
 //! The term `|n x w| R` is the ball's reach along `n x w`; the step search takes a hierarchy
-//! volume's own reach there instead (its support along `n x w`, [`Spread`]): the points of a
+//! volume's own reach there instead (its support along `n x w`, `Spread`): the points of a
 //! rectangle swept by a ball are `C + x e1 + y e2 + z`, so `(p - C) . g <= h1 |e1 . g| +
 //! h2 |e2 . g| + r |g|`, which never exceeds `(h1 + h2 + r) |g|` and is about half of it for
 //! a thin or flat volume.
@@ -405,16 +405,6 @@ impl Spread {
     #[inline]
     pub(crate) fn rss(e1: Vec3, e2: Vec3, h1: f64, h2: f64, r: f64) -> Self {
         Self { e1, e2, h1, h2, r }
-    }
-
-    /// The same set seen from another frame: `rotation` maps the set's frame into it.
-    #[inline]
-    pub(crate) fn turned(&self, rotation: &crate::math::Mat3) -> Self {
-        Self {
-            e1: *rotation * self.e1,
-            e2: *rotation * self.e2,
-            ..*self
-        }
     }
 
     /// `max (p - c) . g` over the set's points `p` (the set is symmetric about `c`, so also

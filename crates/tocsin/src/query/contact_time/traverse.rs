@@ -145,14 +145,7 @@ impl BodyKinematics {
     fn update(&mut self, path: Path<'_>, t: f64, world_to_mesh1: &Pose) {
         match path {
             Path::Rigid(m) => *self = Self::Rigid(Kinematics::new(m, &world_to_mesh1.rotation)),
-            Path::Chain(c) => {
-                if !matches!(self, Self::Chain(_)) {
-                    *self = Self::Chain(ChainKinematics::default());
-                }
-                if let Self::Chain(k) = self {
-                    c.kinematics_at(t, world_to_mesh1, k);
-                }
-            }
+            Path::Chain(c) => *self = Self::Chain(c.kinematics_at(t, world_to_mesh1)),
         }
     }
 }
@@ -286,7 +279,7 @@ impl<'a> StepSearch<'a> {
                 let lever1 = s1.center - k.axis_point;
                 k.bound(n, lever1, |g| s1.spread().support(g), s1.rho, h)
             }
-            BodyKinematics::Chain(c) => c.bound(n, s1.center, s1.radius, &s1.spread(), h),
+            BodyKinematics::Chain(c) => c.bound(n, s1.center, |g| s1.spread().support(g), h),
         };
         let mu2 = match &self.kin2 {
             BodyKinematics::Rigid(k) if k.still => 0.0,
@@ -296,14 +289,8 @@ impl<'a> StepSearch<'a> {
                 k.bound(-n, lever2, support, s2.rho, h)
             }
             BodyKinematics::Chain(c) => {
-                let spread = s2.spread().turned(&self.rot12);
-                c.bound(
-                    -n,
-                    self.rot12 * s2.center + self.trans12,
-                    s2.radius,
-                    &spread,
-                    h,
-                )
+                let support = |g: Vec3| s2.spread().support(self.rot21 * g);
+                c.bound(-n, self.rot12 * s2.center + self.trans12, support, h)
             }
         };
         let mu = mu1 + mu2;
