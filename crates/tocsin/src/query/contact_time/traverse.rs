@@ -111,11 +111,11 @@ impl Kinematics {
     }
 
     /// The bound of [`Motion::directional_bound`] and [`Motion::directional_bound_window`],
-    /// the smaller of the two, along the unit `m` (mesh 1's frame) for the points of `spread`
-    /// (mesh 1's frame) about a centre whose lever from the axis is `lever` (mesh 1's frame),
-    /// all within `rho` of the axis, over a window `h`. The window bound's `|m x w| radius`
-    /// is the set's support along `m x w` ([`Spread`]): the velocity's rotation part
-    /// `(p - axis) . (m x w)` is linear in the point.
+    /// the smaller of the two, along the unit `m` (mesh 1's frame) for a set of points about a
+    /// centre whose lever from the axis is `lever` (mesh 1's frame), all within `rho` of the
+    /// axis, over a window `h`. `support(g)` is the set's `max (p - c) . g` for `g` in mesh 1's
+    /// frame ([`Spread::support`]): it stands for the window bound's `|m x w| radius`, since the
+    /// velocity's rotation part `(p - axis) . (m x w)` is linear in the point.
     #[inline]
     fn bound(&self, m: Vec3, lever: Vec3, support: impl Fn(Vec3) -> f64, rho: f64, h: f64) -> f64 {
         let mxw = m.cross(self.w);
@@ -150,8 +150,9 @@ impl BodyKinematics {
     }
 }
 
-/// A set of body points for the motion bounds: a ball (body frame) and a bound `rho` on the
-/// points' distance from the motion's rotation axis.
+/// A set of body points for the motion bounds (body frame): a centre, the farthest the points
+/// reach from it, the volume they fill when they are a node's (for their reach by direction,
+/// [`PointSet::spread`]), and a bound `rho` on their distance from the motion's rotation axis.
 struct PointSet<'a> {
     center: Vec3,
     radius: f64,
