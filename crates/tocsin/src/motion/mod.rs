@@ -400,8 +400,8 @@ impl Spread {
         }
     }
 
-    /// An RSS whose rectangle's unit edge directions are `e1`, `e2` (in the frame the bound is
-    /// evaluated in), half lengths `h1`, `h2`, sphere radius `r`.
+    /// An RSS whose rectangle's unit edge directions are `e1`, `e2` (in the frame the
+    /// directions given to [`Self::support`] are in), half lengths `h1`, `h2`, sphere radius `r`.
     #[inline]
     pub(crate) fn rss(e1: Vec3, e2: Vec3, h1: f64, h2: f64, r: f64) -> Self {
         Self { e1, e2, h1, h2, r }
@@ -422,4 +422,46 @@ fn check_poses(start: &Pose, end: &Pose) -> Result<(), MotionError> {
         crate::math::check_translation(p.translation).map_err(MotionError::Pose)?;
     }
     Ok(())
+}
+
+/// Random directions and points of swept rectangles, for the tests of the motion bounds (the
+/// rigid one in the step search, the chain's in `robot/chain.rs`).
+#[cfg(test)]
+pub(crate) mod sampling {
+    use crate::math::Vec3;
+    use rand::Rng;
+
+    /// A uniformly random unit vector.
+    pub(crate) fn unit(rng: &mut impl Rng) -> Vec3 {
+        loop {
+            let v = Vec3::new(
+                rng.random_range(-1.0..1.0),
+                rng.random_range(-1.0..1.0),
+                rng.random_range(-1.0..1.0),
+            );
+            if v.length() <= 1.0 {
+                if let Some(u) = v.try_normalize() {
+                    return u;
+                }
+            }
+        }
+    }
+
+    /// A point of the rectangle `c + x e1 + y e2` (`|x| <= h1`, `|y| <= h2`) swept by a ball of
+    /// radius `r`, on its corners and edges as often as inside it.
+    pub(crate) fn rss_point(
+        rng: &mut impl Rng,
+        c: Vec3,
+        (e1, e2): (Vec3, Vec3),
+        (h1, h2): (f64, f64),
+        r: f64,
+    ) -> Vec3 {
+        let mut side = || match rng.random_range(0..3) {
+            0 => -1.0,
+            1 => 1.0,
+            _ => rng.random_range(-1.0..1.0),
+        };
+        let (x, y) = (side(), side());
+        c + e1 * h1 * x + e2 * h2 * y + unit(rng) * r
+    }
 }

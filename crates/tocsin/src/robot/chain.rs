@@ -227,24 +227,10 @@ impl ChainKinematics {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::motion::sampling::{rss_point, unit};
     use crate::motion::Spread;
     use rand::{Rng, SeedableRng};
     use rand_chacha::ChaCha8Rng;
-
-    fn unit(rng: &mut ChaCha8Rng) -> Vec3 {
-        loop {
-            let v = Vec3::new(
-                rng.random_range(-1.0..1.0),
-                rng.random_range(-1.0..1.0),
-                rng.random_range(-1.0..1.0),
-            );
-            if let Some(u) = v.try_normalize() {
-                if v.length() <= 1.0 {
-                    return u;
-                }
-            }
-        }
-    }
 
     /// The chain bound against the true speed (central differences of the pose, an independent
     /// path through the code) on random chains, windows, balls, swept rectangles and directions.
@@ -305,15 +291,7 @@ mod tests {
             for _ in 0..40 {
                 let y = match rss {
                     // Corners and edges of the volume as often as its inside.
-                    Some((e1, e2, h1, h2, rr)) => {
-                        let mut side = || match rng.random_range(0..3) {
-                            0 => -1.0,
-                            1 => 1.0,
-                            _ => rng.random_range(-1.0..1.0),
-                        };
-                        let (x, z) = (side(), side());
-                        yc + e1 * h1 * x + e2 * h2 * z + unit(&mut rng) * rr
-                    }
+                    Some((e1, e2, h1, h2, rr)) => rss_point(&mut rng, yc, (e1, e2), (h1, h2), rr),
                     None => yc + unit(&mut rng) * r * rng.random_range(0.0_f64..1.0).cbrt(),
                 };
                 let s = t + h * rng.random_range(0.0..1.0);

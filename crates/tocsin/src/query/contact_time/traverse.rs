@@ -661,23 +661,9 @@ impl<'a> StepSearch<'a> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::motion::sampling::{rss_point, unit};
     use rand::{Rng, SeedableRng};
     use rand_chacha::ChaCha8Rng;
-
-    fn unit(rng: &mut ChaCha8Rng) -> Vec3 {
-        loop {
-            let v = Vec3::new(
-                rng.random_range(-1.0..1.0),
-                rng.random_range(-1.0..1.0),
-                rng.random_range(-1.0..1.0),
-            );
-            if v.length() <= 1.0 {
-                if let Some(u) = v.try_normalize() {
-                    return u;
-                }
-            }
-        }
-    }
 
     /// The rigid bound the step search uses, with a volume's support in place of its bounding
     /// radius, against the true speed (forward differences of the motion's poses) of points
@@ -740,13 +726,7 @@ mod tests {
             );
             let n = rot * m;
             for _ in 0..30 {
-                let mut side = || match rng.random_range(0..3) {
-                    0 => -1.0,
-                    1 => 1.0,
-                    _ => rng.random_range(-1.0..1.0),
-                };
-                let (x, y) = (side(), side());
-                let p = center + e1 * h1 * x + e2 * h2 * y + unit(&mut rng) * r;
+                let p = rss_point(&mut rng, center, (e1, e2), (h1, h2), r);
                 let s = t + h * rng.random_range(0.0..1.0);
                 let eps = 1e-7;
                 let speed = n.dot(
