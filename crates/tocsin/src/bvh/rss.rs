@@ -166,6 +166,16 @@ impl RelativeRss {
         }
     }
 
+    /// `b` in `a`'s frame when both volumes are given in one frame (one matrix product).
+    #[inline]
+    pub(crate) fn in_common_frame(a: &Rss, b: &Rss) -> Self {
+        let at = a.axes.transpose();
+        Self {
+            r: at * b.axes,
+            t: at * (b.center - a.center),
+        }
+    }
+
     /// `b` in `a`'s frame from `b`'s precomputed side (one matrix product).
     #[inline]
     pub(crate) fn from_b_side(a: &Rss, b: &BSide) -> Self {

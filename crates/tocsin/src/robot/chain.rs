@@ -62,16 +62,74 @@
 //! sample the true velocity on random chains (revolute and prismatic, windows, balls and swept
 //! rectangles) and check it never exceeds either bound.
 
-use crate::math::{Pose, Vec3};
+use crate::math::{Mat3, Pose, Vec3};
+
+/// A moving joint's frame and axis, with the products that give `origin * J(q)` in one step.
+///
+/// For a revolute joint, Rodrigues' formula `J(q) = c I + s [a]x + (1 - c) a a^T` carried
+/// through the origin's rotation `O` gives `O J(q) = c (O - O a a^T) + s O [a]x + O a a^T`:
+/// three fixed matrices, so a pose costs one sine and cosine and a 3x3 combination instead of
+/// building `J(q)` and multiplying (forward kinematics, the culling and the advancement's poses
+/// all go through it). A prismatic joint's is `O` with the translation moved by `q O a`.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct JointFrame {
+    /// Joint frame in the parent body's frame.
+    pub origin: Pose,
+    pub prismatic: bool,
+    /// `O a`: the axis in the parent body's frame.
+    pub o_axis: Vec3,
+    /// `O - O a a^T`.
+    cos_part: Mat3,
+    /// `O [a]x` (columns `O (a x e_i)`).
+    sin_part: Mat3,
+    /// `O a a^T`.
+    fixed_part: Mat3,
+}
+
+impl JointFrame {
+    /// The frame of a joint at `origin` (parent body frame) with unit `axis` (joint frame).
+    pub fn new(origin: Pose, axis: Vec3, prismatic: bool) -> Self {
+        let o = origin.rotation;
+        let o_axis = o * axis;
+        let fixed_part = Mat3::from_cols(o_axis * axis.x, o_axis * axis.y, o_axis * axis.z);
+        let sin_part = Mat3::from_cols(
+            o * axis.cross(Vec3::X),
+            o * axis.cross(Vec3::Y),
+            o * axis.cross(Vec3::Z),
+        );
+        Self {
+            origin,
+            prismatic,
+            o_axis,
+            cos_part: o - fixed_part,
+            sin_part,
+            fixed_part,
+        }
+    }
+
+    /// `origin * J(q)`: the child body's pose in the parent body's frame at joint value `q`.
+    #[inline]
+    pub fn at(&self, q: f64) -> Pose {
+        if self.prismatic {
+            Pose {
+                rotation: self.origin.rotation,
+                translation: self.origin.translation + self.o_axis * q,
+            }
+        } else {
+            let (s, c) = q.sin_cos();
+            Pose {
+                rotation: self.cos_part * c + self.sin_part * s + self.fixed_part,
+                translation: self.origin.translation,
+            }
+        }
+    }
+}
 
 /// One moving joint of a chain, as a path sees it.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct ChainStep {
-    /// Joint frame in the parent body's frame.
-    pub origin: Pose,
-    /// Unit axis in the joint frame.
-    pub axis: Vec3,
-    pub prismatic: bool,
+    /// The joint's frame and axis.
+    pub frame: JointFrame,
     pub q0: f64,
     pub dq: f64,
     /// Bound on the distance from this joint's origin to any point of the object, over the edge.
@@ -91,7 +149,7 @@ pub(crate) struct ChainPath {
 
 impl ChainPath {
     /// The chain of an object whose vertices lie within `reach` of its body's origin.
-    /// `steps` carry origin, axis, kind, `q0` and `dq`; the bound constants are filled here.
+    /// `steps` carry the joint frames, `q0` and `dq`; the bound constants are filled here.
     pub fn new(base: Pose, mut steps: Vec<ChainStep>, reach: f64) -> Self {
         let qmax = |s: &ChainStep| s.q0.abs().max((s.q0 + s.dq).abs());
         let m = steps.len();
@@ -100,15 +158,15 @@ impl ChainPath {
         for j in (0..m).rev() {
             if j + 1 < m {
                 let next = &steps[j + 1];
-                r += next.origin.translation.length();
+                r += next.frame.origin.translation.length();
             }
-            if steps[j].prismatic {
+            if steps[j].frame.prismatic {
                 r += qmax(&steps[j]);
             }
             steps[j].r_chain = r;
         }
         let speed = |s: &ChainStep| {
-            if s.prismatic {
+            if s.frame.prismatic {
                 s.dq.abs()
             } else {
                 s.dq.abs() * s.r_chain
@@ -122,7 +180,7 @@ impl ChainPath {
         let mut omega = 0.0;
         for s in steps.iter_mut() {
             s.omega_before = omega;
-            if !s.prismatic {
+            if !s.frame.prismatic {
                 omega += s.dq.abs();
             }
         }
@@ -145,7 +203,7 @@ impl ChainPath {
     pub fn pose_at(&self, t: f64) -> Pose {
         let mut pose = self.base;
         for s in &self.steps {
-            pose = pose.mul(&s.origin).mul(&joint_motion(s, s.q0 + t * s.dq));
+            pose = pose.mul(&s.frame.at(s.q0 + t * s.dq));
         }
         pose
     }
@@ -156,19 +214,19 @@ impl ChainPath {
         let (mut omega, mut v0, mut window_rate) = (Vec3::ZERO, Vec3::ZERO, 0.0);
         let mut pose = self.base;
         for s in &self.steps {
-            pose = pose.mul(&s.origin);
-            let axis = to_frame.transform_vector(pose.rotation * s.axis);
+            let axis = to_frame.transform_vector(pose.rotation * s.frame.o_axis);
             let adq = s.dq.abs();
-            if s.prismatic {
+            if s.frame.prismatic {
                 v0 += axis * s.dq;
                 window_rate += adq * s.omega_before;
             } else {
-                let origin = to_frame.transform_point(pose.translation);
+                let origin =
+                    to_frame.transform_point(pose.transform_point(s.frame.origin.translation));
                 omega += axis * s.dq;
                 v0 += origin.cross(axis) * s.dq;
                 window_rate += adq * (s.omega_before * s.r_chain + s.v_rel);
             }
-            pose = pose.mul(&joint_motion(s, s.q0 + t * s.dq));
+            pose = pose.mul(&s.frame.at(s.q0 + t * s.dq));
         }
         ChainKinematics {
             omega,
@@ -176,15 +234,6 @@ impl ChainPath {
             window_rate,
             cap: self.max_speed(),
         }
-    }
-}
-
-/// The pose a joint adds at value `q`.
-pub(crate) fn joint_motion(s: &ChainStep, q: f64) -> Pose {
-    if s.prismatic {
-        Pose::from_translation(s.axis * q)
-    } else {
-        Pose::from_axis_angle(s.axis, q, Vec3::ZERO)
     }
 }
 
@@ -243,13 +292,15 @@ mod tests {
             let m = 1 + case % 8;
             let steps: Vec<ChainStep> = (0..m)
                 .map(|_| ChainStep {
-                    origin: Pose::from_axis_angle(
+                    frame: JointFrame::new(
+                        Pose::from_axis_angle(
+                            unit(&mut rng),
+                            rng.random_range(-3.0..3.0),
+                            unit(&mut rng) * rng.random_range(0.0..0.6),
+                        ),
                         unit(&mut rng),
-                        rng.random_range(-3.0..3.0),
-                        unit(&mut rng) * rng.random_range(0.0..0.6),
+                        rng.random_bool(0.25),
                     ),
-                    axis: unit(&mut rng),
-                    prismatic: rng.random_bool(0.25),
                     q0: rng.random_range(-1.5..1.5),
                     dq: rng.random_range(-1.2..1.2),
                     r_chain: 0.0,

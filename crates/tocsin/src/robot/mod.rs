@@ -139,6 +139,8 @@ pub struct Joint {
     pub limits: (f64, f64),
     /// Its value's source.
     pub source: JointSource,
+    /// Origin and axis in the form forward kinematics evaluates.
+    pub(crate) frame: chain::JointFrame,
 }
 
 /// A set of URDF links moving together.
@@ -469,10 +471,17 @@ impl Robot {
     /// World pose of every body from every moving joint's value (mimics applied).
     pub(crate) fn body_poses_from_values(&self, values: &[f64]) -> Vec<Pose> {
         let mut poses = vec![self.base; self.bodies.len()];
-        for (j, &v) in self.joints.iter().zip(values) {
-            poses[j.child] = poses[j.parent].mul(&j.origin).mul(&joint_pose(j, v));
-        }
+        self.body_poses_into(values, &mut poses);
         poses
+    }
+
+    /// [`Robot::body_poses_from_values`] into `poses` (one per body; body 0 is the root, every
+    /// other body hangs from a moving joint).
+    pub(crate) fn body_poses_into(&self, values: &[f64], poses: &mut [Pose]) {
+        poses[0] = self.base;
+        for (j, &v) in self.joints.iter().zip(values) {
+            poses[j.child] = poses[j.parent].mul(&j.frame.at(v));
+        }
     }
 
     /// World pose of every URDF link at `q`, in the order of [`Robot::link_names`].
@@ -515,9 +524,7 @@ impl Robot {
             .map(|&j| {
                 let joint = &self.joints[j];
                 chain::ChainStep {
-                    origin: joint.origin,
-                    axis: joint.axis,
-                    prismatic: joint.kind == JointKind::Prismatic,
+                    frame: joint.frame,
                     q0: v0[j],
                     dq: v1[j] - v0[j],
                     r_chain: 0.0,
@@ -600,14 +607,6 @@ fn joint_value(j: &Joint, q: &[f64]) -> f64 {
             multiplier,
             offset,
         } => multiplier * q[dof] + offset,
-    }
-}
-
-/// The pose a joint adds at value `v`.
-fn joint_pose(j: &Joint, v: f64) -> Pose {
-    match j.kind {
-        JointKind::Revolute => Pose::from_axis_angle(j.axis, v, Vec3::ZERO),
-        JointKind::Prismatic => Pose::from_translation(j.axis * v),
     }
 }
 

@@ -8,9 +8,11 @@
 //!    [`RobotOptions::cull_depth`] levels (pieces of 1/16 by default), evaluated only where
 //!    needed. On a piece `[ta, tb]` an object lies within `v (tb - ta) / 2` of where it is at the
 //!    middle time, `v` its largest speed over the segment (the chain bound of `chain.rs`), so if
-//!    the two root volumes at the middle time are farther apart (separating-axis bound) than the
-//!    two growths plus `delta`, the pair cannot come within `delta` on that piece and the piece
-//!    is not split further. For two links the speeds are relative to the deepest body both hang
+//!    the two root volumes at the middle time are farther apart than the two growths plus
+//!    `delta` (the gap of their world boxes along a world axis, a few comparisons, else the RSS
+//!    separating-axis bound), the pair cannot come within `delta` on that piece and the piece
+//!    is not split further. Each node's forward kinematics and placed volumes are computed once
+//!    and shared by every pair. For two links the speeds are relative to the deepest body both hang
 //!    from (the joints they share move both alike). The finest pieces that remain, merged, are
 //!    the pair's spans.
 //! 3. **Advancement.** Each pair runs the rigid core's conservative advancement (the same step
@@ -28,7 +30,7 @@
 use std::sync::Arc;
 
 use super::{chain::ChainPath, Robot, RobotError};
-use crate::bvh::{rss_separation, RelativeRss};
+use crate::bvh::{rss_separation, RelativeRss, Rss};
 use crate::math::{Pose, Vec3};
 use crate::motion::Motion;
 use crate::query::collide::collide;
@@ -76,8 +78,8 @@ pub struct Obstacle {
     pub mesh: Arc<TriMesh>,
     /// Its world pose.
     pub pose: Pose,
-    /// Its world box (min, max corners).
-    bounds: (Vec3, Vec3),
+    /// Its root volume in the world.
+    volume: WorldVolume,
     /// Its motion (stationary), for the advancement.
     motion: Motion,
 }
@@ -90,13 +92,12 @@ impl Scene {
 
     /// Adds an obstacle.
     pub fn add(&mut self, name: &str, mesh: Arc<TriMesh>, pose: Pose) {
-        let bounds = world_box(&mesh, &pose, 0.0);
         self.obstacles.push(Obstacle {
             name: name.to_string(),
             motion: Motion::stationary(pose),
+            volume: WorldVolume::new(&mesh, &pose),
             mesh,
             pose,
-            bounds,
         });
     }
 
@@ -181,9 +182,63 @@ struct Segment<'r> {
     depth: u32,
 }
 
-/// Body poses at the middle of each culling interval, computed on first use (heap order: node
-/// 1 is `[0, 1]`, node `k` has children `2k` and `2k + 1`).
-struct PoseCache(Vec<Option<Vec<Pose>>>);
+/// The robot's body poses and its objects' root volumes in the world at the middle of each
+/// culling interval, computed on first use (heap order: node 1 is `[0, 1]`, node `k` has
+/// children `2k` and `2k + 1`). Flat arrays filled as needed, so a query allocates a few
+/// buffers rather than some per node.
+struct VolumeCache {
+    /// Per node, where its body poses start in `poses` (`NONE` until computed).
+    pose_at: Vec<u32>,
+    poses: Vec<Pose>,
+    /// Per node and object (`node * objects + object`), its index in `volumes` (`NONE` until
+    /// computed).
+    volume_at: Vec<u32>,
+    volumes: Vec<WorldVolume>,
+    /// Joint values at the node being posed.
+    q: Vec<f64>,
+}
+
+const NONE: u32 = u32::MAX;
+
+/// A mesh's root volume placed in the world, with the world box that contains it.
+#[derive(Clone, Copy, Debug)]
+struct WorldVolume {
+    /// The root RSS with world axes and centre.
+    rss: Rss,
+    /// Its world box (min, max corners).
+    bounds: (Vec3, Vec3),
+}
+
+impl WorldVolume {
+    fn new(mesh: &TriMesh, pose: &Pose) -> Self {
+        let root = mesh.bvh().root();
+        let rss = Rss {
+            axes: pose.rotation * root.axes,
+            center: pose.transform_point(root.center),
+            ..*root
+        };
+        let ext = rss.axes.x_axis.abs() * rss.half_lengths[0]
+            + rss.axes.y_axis.abs() * rss.half_lengths[1]
+            + Vec3::splat(rss.radius);
+        Self {
+            rss,
+            bounds: (rss.center - ext, rss.center + ext),
+        }
+    }
+
+    /// Whether the two volumes are certainly farther apart than `reach`: their boxes' gap
+    /// along a world axis first (a few comparisons, and most culled pairs stop there), then
+    /// the RSS separation bound. Either is a lower bound on the distance of what they hold.
+    fn apart(&self, other: &Self, reach: f64) -> bool {
+        let (a, b) = (&self.bounds, &other.bounds);
+        let gap = (a.0 - b.1).max(b.0 - a.1);
+        if gap.max_element() > reach {
+            return true;
+        }
+        let rel = RelativeRss::in_common_frame(&self.rss, &other.rss);
+        rss_separation(&self.rss, &other.rss, &rel, reach).0 > reach
+    }
+}
 
 fn check_options(options: &RobotOptions) -> Result<(), RobotError> {
     use crate::OptionsError;
@@ -259,18 +314,31 @@ impl<'r> Segment<'r> {
         })
     }
 
-    /// Body poses at the middle of culling node `node` (interval `[ta, tb]`).
-    fn poses<'c>(&self, cache: &'c mut PoseCache, node: usize, mid: f64) -> &'c [Pose] {
-        if cache.0[node].is_none() {
-            let q: Vec<f64> = self
-                .v0
-                .iter()
-                .zip(&self.v1)
-                .map(|(a, b)| a + mid * (b - a))
-                .collect();
-            cache.0[node] = Some(self.robot.body_poses_from_values(&q));
+    /// Robot object `object`'s world volume at the middle of culling node `node`: its index
+    /// in `cache.volumes`, computed (with the node's body poses) on first use.
+    fn volume(&self, cache: &mut VolumeCache, node: usize, mid: f64, object: usize) -> usize {
+        let objects = &self.robot.objects;
+        let slot = node * objects.len() + object;
+        if cache.volume_at[slot] != NONE {
+            return cache.volume_at[slot] as usize;
         }
-        cache.0[node].as_deref().unwrap_or_default()
+        if cache.pose_at[node] == NONE {
+            cache.q.clear();
+            let values = self.v0.iter().zip(&self.v1);
+            cache.q.extend(values.map(|(a, b)| a + mid * (b - a)));
+            let start = cache.poses.len();
+            cache
+                .poses
+                .resize(start + self.robot.bodies.len(), Pose::IDENTITY);
+            self.robot
+                .body_poses_into(&cache.q, &mut cache.poses[start..]);
+            cache.pose_at[node] = start as u32;
+        }
+        let o = &objects[object];
+        let pose = &cache.poses[cache.pose_at[node] as usize + o.body];
+        cache.volumes.push(WorldVolume::new(&o.mesh, pose));
+        cache.volume_at[slot] = (cache.volumes.len() - 1) as u32;
+        cache.volumes.len() - 1
     }
 
     /// The spans of `[ta, tb]` (culling node `node` at `level`) where the pair's swept volumes
@@ -280,7 +348,7 @@ impl<'r> Segment<'r> {
         &self,
         pair: Pair,
         speeds: (f64, f64),
-        cache: &mut PoseCache,
+        cache: &mut VolumeCache,
         node: usize,
         level: u32,
         ta: f64,
@@ -289,22 +357,15 @@ impl<'r> Segment<'r> {
     ) {
         let mid = 0.5 * (ta + tb);
         let half = 0.5 * (tb - ta);
-        let poses = self.poses(cache, node, mid);
-        let oa = &self.robot.objects[pair.a];
-        let pa = poses[oa.body];
-        let grow_a = speeds.0 * half;
-        let (mb, pb, grow_b) = if pair.obstacle {
-            let o = &self.scene.obstacles[pair.b];
-            (&o.mesh, o.pose, 0.0)
+        let a = self.volume(cache, node, mid, pair.a);
+        let (b, grow_b) = if pair.obstacle {
+            (&self.scene.obstacles[pair.b].volume, 0.0)
         } else {
-            let ob = &self.robot.objects[pair.b];
-            (&ob.mesh, poses[ob.body], speeds.1 * half)
+            let b = self.volume(cache, node, mid, pair.b);
+            (&cache.volumes[b], speeds.1 * half)
         };
-        let reach = grow_a + grow_b + self.delta;
-        let (ra, rb) = (oa.mesh.bvh().root(), mb.bvh().root());
-        let rel12 = pa.inv_mul(&pb);
-        let rel = RelativeRss::new(ra, rb, &rel12.rotation, rel12.translation);
-        if rss_separation(ra, rb, &rel, reach).0 > reach {
+        let reach = speeds.0 * half + grow_b + self.delta;
+        if cache.volumes[a].apart(b, reach) {
             return;
         }
         if level == self.depth {
@@ -320,7 +381,14 @@ impl<'r> Segment<'r> {
 
     /// Every pair with the spans where its swept volumes may meet, earliest span first.
     fn candidates(&self) -> Vec<(f64, f64, Pair)> {
-        let mut cache = PoseCache(vec![None; 2 << self.depth]);
+        let nodes = 2 << self.depth;
+        let mut cache = VolumeCache {
+            pose_at: vec![NONE; nodes],
+            poses: Vec::new(),
+            volume_at: vec![NONE; nodes * self.robot.objects.len()],
+            volumes: Vec::new(),
+            q: Vec::new(),
+        };
         let mut out = Vec::new();
         let mut spans = Vec::new();
         let pairs = self
@@ -658,7 +726,7 @@ pub fn in_collision(robot: &Robot, q: &[f64], scene: &Scene) -> Result<bool, Rob
     let objects = &robot.objects;
     let boxes: Vec<_> = objects
         .iter()
-        .map(|o| world_box(&o.mesh, &poses[o.body], 0.0))
+        .map(|o| WorldVolume::new(&o.mesh, &poses[o.body]).bounds)
         .collect();
     for &(a, b) in &robot.self_pairs {
         if boxes_meet(&boxes[a], &boxes[b])
@@ -674,7 +742,7 @@ pub fn in_collision(robot: &Robot, q: &[f64], scene: &Scene) -> Result<bool, Rob
     }
     for (a, o) in objects.iter().enumerate() {
         for obs in &scene.obstacles {
-            if boxes_meet(&boxes[a], &obs.bounds)
+            if boxes_meet(&boxes[a], &obs.volume.bounds)
                 && collide(&o.mesh, &poses[o.body], &obs.mesh, &obs.pose)
             {
                 return Ok(true);
@@ -739,18 +807,6 @@ pub fn path_is_free_batch(
         .par_iter()
         .map(|(a, b)| path_is_free(robot, a, b, scene, options))
         .collect())
-}
-
-/// World box of a mesh's root volume at `pose`, grown by `grow`.
-fn world_box(mesh: &TriMesh, pose: &Pose, grow: f64) -> (Vec3, Vec3) {
-    let rss = mesh.bvh().root();
-    let c = pose.transform_point(rss.center);
-    let e0 = pose.rotation * rss.axes.x_axis;
-    let e1 = pose.rotation * rss.axes.y_axis;
-    let ext = e0.abs() * rss.half_lengths[0]
-        + e1.abs() * rss.half_lengths[1]
-        + Vec3::splat(rss.radius + grow);
-    (c - ext, c + ext)
 }
 
 fn boxes_meet(a: &(Vec3, Vec3), b: &(Vec3, Vec3)) -> bool {

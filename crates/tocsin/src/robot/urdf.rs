@@ -236,6 +236,11 @@ fn build(
                         parent: body,
                         limits: limits(j)?,
                         source: JointSource::Dof(usize::MAX), // set below
+                        frame: super::chain::JointFrame::new(
+                            origin,
+                            axis,
+                            kind == JointKind::Prismatic,
+                        ),
                     });
                     link_place[c] = Some((b, Pose::IDENTITY));
                 }
