@@ -384,9 +384,9 @@ impl<'r> Segment<'r> {
         let nodes = 2 << self.depth;
         let mut cache = VolumeCache {
             pose_at: vec![NONE; nodes],
-            poses: Vec::new(),
+            poses: Vec::with_capacity(nodes * self.robot.bodies.len()),
             volume_at: vec![NONE; nodes * self.robot.objects.len()],
-            volumes: Vec::new(),
+            volumes: Vec::with_capacity(nodes * self.robot.objects.len()),
             q: Vec::new(),
         };
         let mut out = Vec::new();
