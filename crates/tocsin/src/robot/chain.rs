@@ -110,15 +110,25 @@ impl JointFrame {
     /// `origin * J(q)`: the child body's pose in the parent body's frame at joint value `q`.
     #[inline]
     pub fn at(&self, q: f64) -> Pose {
+        let (s, c) = if self.prismatic {
+            (0.0, 1.0)
+        } else {
+            q.sin_cos()
+        };
+        self.at_sin_cos(q, s, c)
+    }
+
+    /// [`JointFrame::at`] given `sin q` and `cos q` (a prismatic joint uses `q` only).
+    #[inline]
+    pub fn at_sin_cos(&self, q: f64, sin: f64, cos: f64) -> Pose {
         if self.prismatic {
             Pose {
                 rotation: self.origin.rotation,
                 translation: self.origin.translation + self.o_axis * q,
             }
         } else {
-            let (s, c) = q.sin_cos();
             Pose {
-                rotation: self.cos_part * c + self.sin_part * s + self.fixed_part,
+                rotation: self.cos_part * cos + self.sin_part * sin + self.fixed_part,
                 translation: self.origin.translation,
             }
         }

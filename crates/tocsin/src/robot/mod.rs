@@ -471,16 +471,19 @@ impl Robot {
     /// World pose of every body from every moving joint's value (mimics applied).
     pub(crate) fn body_poses_from_values(&self, values: &[f64]) -> Vec<Pose> {
         let mut poses = vec![self.base; self.bodies.len()];
-        self.body_poses_into(values, &mut poses);
+        for (j, &v) in self.joints.iter().zip(values) {
+            poses[j.child] = poses[j.parent].mul(&j.frame.at(v));
+        }
         poses
     }
 
     /// [`Robot::body_poses_from_values`] into `poses` (one per body; body 0 is the root, every
-    /// other body hangs from a moving joint).
-    pub(crate) fn body_poses_into(&self, values: &[f64], poses: &mut [Pose]) {
+    /// other body hangs from a moving joint), given each joint's value and its sine and cosine
+    /// (`trig`, used for revolute joints).
+    pub(crate) fn body_poses_into(&self, values: &[f64], trig: &[(f64, f64)], poses: &mut [Pose]) {
         poses[0] = self.base;
-        for (j, &v) in self.joints.iter().zip(values) {
-            poses[j.child] = poses[j.parent].mul(&j.frame.at(v));
+        for ((j, &v), &(s, c)) in self.joints.iter().zip(values).zip(trig) {
+            poses[j.child] = poses[j.parent].mul(&j.frame.at_sin_cos(v, s, c));
         }
     }
 

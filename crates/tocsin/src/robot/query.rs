@@ -196,6 +196,14 @@ struct VolumeCache {
     volumes: Vec<WorldVolume>,
     /// Joint values at the node being posed.
     q: Vec<f64>,
+    /// Per node and joint (`node * joints + joint`), the sine and cosine of the joint's value
+    /// at the node's middle, filled when the node is posed.
+    trig: Vec<(f64, f64)>,
+    /// Per level `L >= 1` and joint (`(L - 1) * joints + joint`), the sine and cosine of the joint's change over `2^-(L+1)`
+    /// of the segment: a node's middle is its parent's moved by that much, so its sines and
+    /// cosines follow from its parent's by the angle-addition formulas (one `sin_cos` per
+    /// joint and level instead of per joint and node).
+    level_trig: Vec<(f64, f64)>,
 }
 
 const NONE: u32 = u32::MAX;
@@ -314,6 +322,28 @@ impl<'r> Segment<'r> {
         })
     }
 
+    /// An empty culling cache for this segment.
+    fn volume_cache(&self) -> VolumeCache {
+        let nodes = 2 << self.depth;
+        VolumeCache {
+            pose_at: vec![NONE; nodes],
+            poses: Vec::with_capacity(nodes * self.robot.bodies.len()),
+            volume_at: vec![NONE; nodes * self.robot.objects.len()],
+            volumes: Vec::with_capacity(nodes * self.robot.objects.len()),
+            q: Vec::new(),
+            trig: vec![(0.0, 1.0); nodes * self.v0.len()],
+            level_trig: (1..=self.depth as i32)
+                .flat_map(|level| {
+                    let h = 0.5_f64.powi(level + 1);
+                    self.v0
+                        .iter()
+                        .zip(&self.v1)
+                        .map(move |(a, b)| (h * (b - a)).sin_cos())
+                })
+                .collect(),
+        }
+    }
+
     /// Robot object `object`'s world volume at the middle of culling node `node`: its index
     /// in `cache.volumes`, computed (with the node's body poses) on first use.
     fn volume(&self, cache: &mut VolumeCache, node: usize, mid: f64, object: usize) -> usize {
@@ -326,12 +356,33 @@ impl<'r> Segment<'r> {
             cache.q.clear();
             let values = self.v0.iter().zip(&self.v1);
             cache.q.extend(values.map(|(a, b)| a + mid * (b - a)));
+            let joints = self.v0.len();
+            let parent = node / 2;
+            let here = node * joints;
+            if node > 1 && cache.pose_at[parent] != NONE {
+                let level = (usize::BITS - 1 - node.leading_zeros()) as usize;
+                // Left children lie before their parent's middle, right ones after.
+                let sign = if node % 2 == 0 { -1.0 } else { 1.0 };
+                for j in 0..joints {
+                    let (sp, cp) = cache.trig[parent * joints + j];
+                    let (sd, cd) = cache.level_trig[(level - 1) * joints + j];
+                    let sd = sign * sd;
+                    cache.trig[here + j] = (sp * cd + cp * sd, cp * cd - sp * sd);
+                }
+            } else {
+                for (j, q) in cache.q.iter().enumerate() {
+                    cache.trig[here + j] = q.sin_cos();
+                }
+            }
             let start = cache.poses.len();
             cache
                 .poses
                 .resize(start + self.robot.bodies.len(), Pose::IDENTITY);
-            self.robot
-                .body_poses_into(&cache.q, &mut cache.poses[start..]);
+            self.robot.body_poses_into(
+                &cache.q,
+                &cache.trig[here..here + joints],
+                &mut cache.poses[start..],
+            );
             cache.pose_at[node] = start as u32;
         }
         let o = &objects[object];
@@ -381,14 +432,7 @@ impl<'r> Segment<'r> {
 
     /// Every pair with the spans where its swept volumes may meet, earliest span first.
     fn candidates(&self) -> Vec<(f64, f64, Pair)> {
-        let nodes = 2 << self.depth;
-        let mut cache = VolumeCache {
-            pose_at: vec![NONE; nodes],
-            poses: Vec::with_capacity(nodes * self.robot.bodies.len()),
-            volume_at: vec![NONE; nodes * self.robot.objects.len()],
-            volumes: Vec::with_capacity(nodes * self.robot.objects.len()),
-            q: Vec::new(),
-        };
+        let mut cache = self.volume_cache();
         let mut out = Vec::new();
         let mut spans = Vec::new();
         let pairs = self
@@ -816,4 +860,66 @@ fn boxes_meet(a: &(Vec3, Vec3), b: &(Vec3, Vec3)) -> bool {
         && b.0.y <= a.1.y
         && a.0.z <= b.1.z
         && b.0.z <= a.1.z
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The culling's poses (sines and cosines carried from parent to child nodes) against
+    /// forward kinematics at each node's middle, on a chain with revolute, prismatic and mimic
+    /// joints.
+    #[test]
+    fn culling_poses_match_forward_kinematics() {
+        let link = |n: &str| {
+            format!("<link name='{n}'><collision><geometry><box size='0.1 0.2 0.3'/></geometry></collision></link>")
+        };
+        let joint = |n: &str, kind: &str, p: &str, c: &str, axis: &str, extra: &str| {
+            format!(
+                "<joint name='{n}' type='{kind}'><parent link='{p}'/><child link='{c}'/>\
+                 <origin xyz='0.1 0.2 0.3' rpy='0.3 -0.2 0.5'/><axis xyz='{axis}'/>\
+                 <limit lower='-3' upper='3' effort='1' velocity='1'/>{extra}</joint>"
+            )
+        };
+        let xml = format!(
+            "<robot name='r'>{}{}{}{}{}{}{}{}</robot>",
+            link("a"),
+            link("b"),
+            link("c"),
+            link("d"),
+            joint("j1", "revolute", "a", "b", "0 0 1", ""),
+            joint("j2", "prismatic", "b", "c", "0.6 0 0.8", ""),
+            joint("j3", "revolute", "c", "d", "1 2 -1", ""),
+            link("e")
+                + &joint(
+                    "j4",
+                    "revolute",
+                    "d",
+                    "e",
+                    "0 1 0",
+                    "<mimic joint='j1' multiplier='-1.5' offset='0.2'/>"
+                ),
+        );
+        let robot = Robot::from_urdf_str(&xml, None, &[]).unwrap();
+        let scene = Scene::new();
+        let (q0, q1) = ([0.4, -0.2, 2.5], [-2.9, 0.3, -1.0]);
+        let segment = Segment::new(&robot, &q0, &q1, &scene, &RobotOptions::default()).unwrap();
+        let mut cache = segment.volume_cache();
+        let bodies = robot.bodies.len();
+        for node in 1..(2usize << segment.depth) {
+            let level = usize::BITS - 1 - node.leading_zeros();
+            let width = 0.5_f64.powi(level as i32);
+            let mid = (node as f64 - (1 << level) as f64 + 0.5) * width;
+            segment.volume(&mut cache, node, mid, 0);
+            let start = cache.pose_at[node] as usize;
+            let q: Vec<f64> = q0.iter().zip(&q1).map(|(a, b)| a + mid * (b - a)).collect();
+            let expected = robot.body_poses(&q);
+            for (got, want) in cache.poses[start..start + bodies].iter().zip(&expected) {
+                let rot = (got.rotation - want.rotation).to_cols_array();
+                let err = rot.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+                assert!(err < 1e-13, "node {node}: rotation off by {err}");
+                assert!((got.translation - want.translation).length() < 1e-13);
+            }
+        }
+    }
 }
