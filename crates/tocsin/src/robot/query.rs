@@ -900,10 +900,11 @@ mod tests {
                     "<mimic joint='j1' multiplier='-1.5' offset='0.2'/>"
                 ),
         );
-        let robot = Robot::from_urdf_str(&xml, None, &[]).unwrap();
+        let robot = Robot::from_urdf_str(&xml, None, &[]).expect("model");
         let scene = Scene::new();
         let (q0, q1) = ([0.4, -0.2, 2.5], [-2.9, 0.3, -1.0]);
-        let segment = Segment::new(&robot, &q0, &q1, &scene, &RobotOptions::default()).unwrap();
+        let segment =
+            Segment::new(&robot, &q0, &q1, &scene, &RobotOptions::default()).expect("segment");
         let mut cache = segment.volume_cache();
         let bodies = robot.bodies.len();
         for node in 1..(2usize << segment.depth) {
