@@ -218,32 +218,32 @@ impl ChainPath {
         pose
     }
 
-    /// The link's velocity field at time `t` and the window constants, in the frame
-    /// `to_frame` maps the world into (module docs).
-    pub fn kinematics_at(&self, t: f64, to_frame: &Pose) -> ChainKinematics {
+    /// The body's world pose at time `t`, and the link's velocity field there with the window
+    /// constants (world frame, module docs): one pass down the chain gives both.
+    pub fn state_at(&self, t: f64) -> (Pose, ChainKinematics) {
         let (mut omega, mut v0, mut window_rate) = (Vec3::ZERO, Vec3::ZERO, 0.0);
         let mut pose = self.base;
         for s in &self.steps {
-            let axis = to_frame.transform_vector(pose.rotation * s.frame.o_axis);
+            let axis = pose.rotation * s.frame.o_axis;
             let adq = s.dq.abs();
             if s.frame.prismatic {
                 v0 += axis * s.dq;
                 window_rate += adq * s.omega_before;
             } else {
-                let origin =
-                    to_frame.transform_point(pose.transform_point(s.frame.origin.translation));
+                let origin = pose.transform_point(s.frame.origin.translation);
                 omega += axis * s.dq;
                 v0 += origin.cross(axis) * s.dq;
                 window_rate += adq * (s.omega_before * s.r_chain + s.v_rel);
             }
             pose = pose.mul(&s.frame.at(s.q0 + t * s.dq));
         }
-        ChainKinematics {
+        let kinematics = ChainKinematics {
             omega,
             v0,
             window_rate,
             cap: self.max_speed(),
-        }
+        };
+        (pose, kinematics)
     }
 }
 
@@ -260,6 +260,18 @@ pub(crate) struct ChainKinematics {
 }
 
 impl ChainKinematics {
+    /// The same field in the frame `to_frame` maps the world into: with `x' = R x + p`, the
+    /// velocity `R (v0 + omega x x)` is `(R v0 - R omega x p) + R omega x x'`.
+    #[inline]
+    pub fn in_frame(&self, to_frame: &Pose) -> Self {
+        let omega = to_frame.rotation * self.omega;
+        Self {
+            omega,
+            v0: to_frame.rotation * self.v0 - omega.cross(to_frame.translation),
+            ..*self
+        }
+    }
+
     /// Bound on the speed along the unit `n` of a set of points about `center` (both in the
     /// evaluation frame), over a window `h` (module docs); `support(g)` is the set's
     /// `max (x - c) . g` for `g` in the evaluation frame
@@ -333,10 +345,15 @@ mod tests {
             let path = ChainPath::new(Pose::IDENTITY, steps, yc.length() + r);
             let t = rng.random_range(0.0..1.0);
             let h = rng.random_range(0.0..(1.0 - t)) * if case % 3 == 0 { 0.05 } else { 1.0 };
-            let kin = path.kinematics_at(t, &Pose::IDENTITY);
-            let c = path.pose_at(t).transform_point(yc);
+            // The field in a random frame, brought back to the world: `in_frame` checked too.
+            let frame =
+                Pose::from_axis_angle(unit(&mut rng), rng.random_range(-3.0..3.0), unit(&mut rng));
+            let (pose, world) = path.state_at(t);
+            let kin = world.in_frame(&frame).in_frame(&frame.inverse());
+            assert!((pose.translation - path.pose_at(t).translation).length() < 1e-12);
+            let c = pose.transform_point(yc);
             let n = unit(&mut rng);
-            let rot = path.pose_at(t).rotation;
+            let rot = pose.rotation;
             // The farthest the points reach from the centre (what the step search passes).
             let (spread, reach) = match rss {
                 Some((e1, e2, h1, h2, rr)) => (

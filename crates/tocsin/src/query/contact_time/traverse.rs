@@ -140,12 +140,31 @@ enum BodyKinematics {
     Chain(ChainKinematics),
 }
 
+/// What a body's bound needs at one time before mesh 1's frame is known: the rigid motion, or
+/// a chain's velocity field in the world frame.
+enum WorldBound<'m> {
+    Rigid(&'m Motion),
+    Chain(ChainKinematics),
+}
+
 impl BodyKinematics {
-    /// Refreshes the bound for time `t`; `world_to_mesh1` maps world into mesh 1's frame.
-    fn update(&mut self, path: Path<'_>, t: f64, world_to_mesh1: &Pose) {
+    /// The body's world pose at time `t` and what its bound there needs (for a chain, one pass
+    /// down the chain gives both).
+    fn at<'m>(path: Path<'m>, t: f64) -> (Pose, WorldBound<'m>) {
         match path {
-            Path::Rigid(m) => *self = Self::Rigid(Kinematics::new(m, &world_to_mesh1.rotation)),
-            Path::Chain(c) => *self = Self::Chain(c.kinematics_at(t, world_to_mesh1)),
+            Path::Rigid(m) => (m.pose_at(t), WorldBound::Rigid(m)),
+            Path::Chain(c) => {
+                let (pose, kinematics) = c.state_at(t);
+                (pose, WorldBound::Chain(kinematics))
+            }
+        }
+    }
+
+    /// The bound in mesh 1's frame (`world_to_mesh1` maps the world into it).
+    fn in_mesh1(bound: WorldBound<'_>, world_to_mesh1: &Pose) -> Self {
+        match bound {
+            WorldBound::Rigid(m) => Self::Rigid(Kinematics::new(m, &world_to_mesh1.rotation)),
+            WorldBound::Chain(k) => Self::Chain(k.in_frame(world_to_mesh1)),
         }
     }
 }
@@ -413,15 +432,18 @@ impl<'a> StepSearch<'a> {
         slack: f64,
         warm: Option<(u32, u32)>,
     ) -> StepOutcome {
-        let (pose1, pose2): (Pose, Pose) = (self.motion1.pose_at(t), self.motion2.pose_at(t));
+        let ((pose1, bound1), (pose2, bound2)) = (
+            BodyKinematics::at(self.motion1, t),
+            BodyKinematics::at(self.motion2, t),
+        );
         let pos12 = pose1.inv_mul(&pose2);
         (self.rot12, self.trans12) = (pos12.rotation, pos12.translation);
         self.rot21 = pos12.rotation.transpose();
         (self.rot1, self.rot2, self.window) = (pose1.rotation, pose2.rotation, window);
         let world_to_mesh1 = pose1.inverse();
         self.columns = ColumnPair::new(self.bvh1, self.bvh2, &pos12);
-        self.kin1.update(self.motion1, t, &world_to_mesh1);
-        self.kin2.update(self.motion2, t, &world_to_mesh1);
+        self.kin1 = BodyKinematics::in_mesh1(bound1, &world_to_mesh1);
+        self.kin2 = BodyKinematics::in_mesh1(bound2, &world_to_mesh1);
         self.t = t;
         self.slack = slack;
         self.best = window * (1.0 + slack);
