@@ -550,7 +550,11 @@ impl<'r> Segment<'r> {
                 max_iterations: self.max_iterations,
                 first_window: FIRST_WINDOW,
                 slack: (FAR_SLACK, NEAR_SLACK),
-                start_free: false,
+                // The exact collision test at the span's start only tells a start in contact
+                // apart from a contact found by the first step search (which finds touching
+                // meshes too): a yes/no answer does not need it, and a later span's status
+                // becomes `Converged` either way.
+                start_free: first_only || start > 0.0,
             };
             let key = (pair.a, pair.b, pair.obstacle);
             let mut cache = warm
