@@ -137,9 +137,9 @@ impl JointFrame {
 
 /// One moving joint of a chain, as a path sees it.
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct ChainStep {
-    /// The joint's frame and axis.
-    pub frame: JointFrame,
+pub(crate) struct ChainStep<'f> {
+    /// The joint's frame and axis (the robot's).
+    pub frame: &'f JointFrame,
     pub q0: f64,
     pub dq: f64,
     /// Bound on the distance from this joint's origin to any point of the object, over the edge.
@@ -152,15 +152,15 @@ pub(crate) struct ChainStep {
 
 /// A collision object's motion along a joint-space segment: the chain from the robot's base.
 #[derive(Clone, Debug)]
-pub(crate) struct ChainPath {
+pub(crate) struct ChainPath<'f> {
     pub base: Pose,
-    pub steps: Vec<ChainStep>,
+    pub steps: Vec<ChainStep<'f>>,
 }
 
-impl ChainPath {
+impl<'f> ChainPath<'f> {
     /// The chain of an object whose vertices lie within `reach` of its body's origin.
     /// `steps` carry the joint frames, `q0` and `dq`; the bound constants are filled here.
-    pub fn new(base: Pose, mut steps: Vec<ChainStep>, reach: f64) -> Self {
+    pub fn new(base: Pose, mut steps: Vec<ChainStep<'f>>, reach: f64) -> Self {
         let qmax = |s: &ChainStep| s.q0.abs().max((s.q0 + s.dq).abs());
         let m = steps.len();
         // R_j from the tip down.
@@ -312,9 +312,9 @@ mod tests {
         let mut tight = 0.0_f64;
         for case in 0..400 {
             let m = 1 + case % 8;
-            let steps: Vec<ChainStep> = (0..m)
-                .map(|_| ChainStep {
-                    frame: JointFrame::new(
+            let joints: Vec<(JointFrame, f64, f64)> = (0..m)
+                .map(|_| {
+                    let frame = JointFrame::new(
                         Pose::from_axis_angle(
                             unit(&mut rng),
                             rng.random_range(-3.0..3.0),
@@ -322,9 +322,20 @@ mod tests {
                         ),
                         unit(&mut rng),
                         rng.random_bool(0.25),
-                    ),
-                    q0: rng.random_range(-1.5..1.5),
-                    dq: rng.random_range(-1.2..1.2),
+                    );
+                    (
+                        frame,
+                        rng.random_range(-1.5..1.5),
+                        rng.random_range(-1.2..1.2),
+                    )
+                })
+                .collect();
+            let steps: Vec<ChainStep> = joints
+                .iter()
+                .map(|(frame, q0, dq)| ChainStep {
+                    frame,
+                    q0: *q0,
+                    dq: *dq,
                     r_chain: 0.0,
                     omega_before: 0.0,
                     v_rel: 0.0,

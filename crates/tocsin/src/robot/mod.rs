@@ -520,14 +520,14 @@ impl Robot {
         v0: &[f64],
         v1: &[f64],
         skip: usize,
-    ) -> chain::ChainPath {
+    ) -> chain::ChainPath<'_> {
         let object = &self.objects[o];
         let steps = self.bodies[object.body].chain[skip..]
             .iter()
             .map(|&j| {
                 let joint = &self.joints[j];
                 chain::ChainStep {
-                    frame: joint.frame,
+                    frame: &joint.frame,
                     q0: v0[j],
                     dq: v1[j] - v0[j],
                     r_chain: 0.0,

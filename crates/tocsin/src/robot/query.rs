@@ -175,7 +175,7 @@ struct Segment<'r> {
     v0: Vec<f64>,
     v1: Vec<f64>,
     /// Each object's world path.
-    paths: Vec<ChainPath>,
+    paths: Vec<ChainPath<'r>>,
     delta: f64,
     max_iterations: usize,
     /// Levels of the binary time subdivision used by the culling.
@@ -484,7 +484,7 @@ impl<'r> Segment<'r> {
     /// The pair's two paths: for two robot objects, relative to the deepest body both hang
     /// from (the joints they share move both alike and drop out of the bound), with that
     /// body's index.
-    fn pair_paths(&self, pair: Pair) -> (Option<(ChainPath, ChainPath)>, usize) {
+    fn pair_paths(&self, pair: Pair) -> (Option<(ChainPath<'r>, ChainPath<'r>)>, usize) {
         if pair.obstacle {
             return (None, 0);
         }
@@ -661,7 +661,7 @@ impl<'r> Segment<'r> {
     fn meshes<'s>(
         &'s self,
         pair: Pair,
-        relative: Option<&'s (ChainPath, ChainPath)>,
+        relative: Option<&'s (ChainPath<'r>, ChainPath<'r>)>,
     ) -> (&'s TriMesh, Path<'s>, &'s TriMesh, Path<'s>) {
         let a = &self.robot.objects[pair.a];
         if pair.obstacle {

@@ -54,7 +54,7 @@ use traverse::{StepOutcome, StepSearch};
 #[derive(Clone, Copy)]
 pub(crate) enum Path<'a> {
     Rigid(&'a Motion),
-    Chain(&'a ChainPath),
+    Chain(&'a ChainPath<'a>),
 }
 
 impl Path<'_> {
