@@ -2,7 +2,8 @@
 //! `cargo run --release --example profile_robot -- robot.urdf robot.srdf scene.txt [edges]`.
 //! Scene lines: `box name sx sy sz px py pz qx qy qz qw` or `cylinder name length radius px py
 //! pz qx qy qz qw` (MoveIt's conventions). Configurations: random within limits, edges of
-//! 0.5 rad from them.
+//! 0.5 rad from them. With `REPLAY=manifest`, replays the edges of a manifest instead (see
+//! `replay`).
 
 use rand::{Rng, SeedableRng};
 use std::sync::Arc;
@@ -14,23 +15,11 @@ fn main() {
     let args: Vec<String> = std::env::args().collect();
     let mut robot = Robot::from_urdf_file(&args[1], &[]).expect("urdf");
     robot.apply_srdf_file(&args[2]).expect("srdf");
-    let mut scene = Scene::new();
-    for line in std::fs::read_to_string(&args[3]).expect("scene").lines() {
-        let f: Vec<&str> = line.split_whitespace().collect();
-        let v: Vec<f64> = f[2..].iter().map(|x| x.parse().expect("number")).collect();
-        let rest = if f[0] == "box" { &v[3..] } else { &v[2..] };
-        let mesh = if f[0] == "box" {
-            tocsin::mesh::box_mesh(Vec3::new(v[0], v[1], v[2]) * 0.5).expect("box")
-        } else {
-            robot_cyl(v[0], v[1])
-        };
-        let q = glam::DQuat::from_xyzw(rest[3], rest[4], rest[5], rest[6]).normalize();
-        let pose = Pose {
-            rotation: Mat3::from_quat(q),
-            translation: Vec3::new(rest[0], rest[1], rest[2]),
-        };
-        scene.add(f[1], Arc::new(mesh), pose);
+    if let Ok(manifest) = std::env::var("REPLAY") {
+        replay(&robot, &manifest);
+        return;
     }
+    let scene = load_scene(&args[3]);
     let edges: usize = args.get(4).map_or(200, |s| s.parse().expect("edges"));
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
     let limits = robot.joint_limits().to_vec();
@@ -114,6 +103,57 @@ fn main() {
         coll_t.len(),
         med(&mut coll_t)
     );
+}
+
+/// The scene of a scene file (module docs).
+fn load_scene(path: &str) -> Scene {
+    let mut scene = Scene::new();
+    for line in std::fs::read_to_string(path).expect("scene").lines() {
+        let f: Vec<&str> = line.split_whitespace().collect();
+        let v: Vec<f64> = f[2..].iter().map(|x| x.parse().expect("number")).collect();
+        let rest = if f[0] == "box" { &v[3..] } else { &v[2..] };
+        let mesh = if f[0] == "box" {
+            tocsin::mesh::box_mesh(Vec3::new(v[0], v[1], v[2]) * 0.5).expect("box")
+        } else {
+            robot_cyl(v[0], v[1])
+        };
+        let q = glam::DQuat::from_xyzw(rest[3], rest[4], rest[5], rest[6]).normalize();
+        let pose = Pose {
+            rotation: Mat3::from_quat(q),
+            translation: Vec3::new(rest[0], rest[1], rest[2]),
+        };
+        scene.add(f[1], Arc::new(mesh), pose);
+    }
+    scene
+}
+
+/// Replays the edges of a manifest (lines `scenario scene_file edges_file`; edge lines
+/// `rand|goal q0 q1`, comma-separated values), as `bench/robot_mbm.py` draws them: the
+/// instruction count of a fixed workload for callgrind. Prints the verdicts per scenario.
+fn replay(robot: &Robot, manifest: &str) {
+    let opts = RobotOptions::default();
+    let parse = |s: &str| -> Vec<f64> { s.split(',').map(|x| x.parse().expect("value")).collect() };
+    let mut counts = std::collections::BTreeMap::new();
+    for line in std::fs::read_to_string(manifest).expect("manifest").lines() {
+        let f: Vec<&str> = line.split_whitespace().collect();
+        let scene = load_scene(f[1]);
+        for edge in std::fs::read_to_string(f[2]).expect("edges").lines() {
+            let e: Vec<&str> = edge.split_whitespace().collect();
+            let free = query::path_is_free(robot, &parse(e[1]), &parse(e[2]), &scene, &opts)
+                .expect("free");
+            let c = counts
+                .entry((f[0].to_string(), e[0].to_string()))
+                .or_insert((0, 0));
+            if free {
+                c.0 += 1;
+            } else {
+                c.1 += 1;
+            }
+        }
+    }
+    for ((scenario, kind), (free, colliding)) in counts {
+        println!("{scenario} {kind}: {free} free, {colliding} colliding");
+    }
 }
 
 fn robot_cyl(length: f64, radius: f64) -> TriMesh {
