@@ -169,20 +169,22 @@ impl RelativeRss {
     /// `b` in `a`'s frame when both volumes are given in one frame (one matrix product).
     #[inline]
     pub(crate) fn in_common_frame(a: &Rss, b: &Rss) -> Self {
-        let at = a.axes.transpose();
-        Self {
-            r: at * b.axes,
-            t: at * (b.center - a.center),
-        }
+        Self::from_axes(a, &b.axes, b.center)
     }
 
     /// `b` in `a`'s frame from `b`'s precomputed side (one matrix product).
     #[inline]
     pub(crate) fn from_b_side(a: &Rss, b: &BSide) -> Self {
+        Self::from_axes(a, &b.axes, b.center)
+    }
+
+    /// Axes and a centre given in the frame `a` is given in, seen from `a`'s own frame.
+    #[inline]
+    fn from_axes(a: &Rss, axes: &Mat3, center: Vec3) -> Self {
         let at = a.axes.transpose();
         Self {
-            r: at * b.axes,
-            t: at * (b.center - a.center),
+            r: at * *axes,
+            t: at * (center - a.center),
         }
     }
 }

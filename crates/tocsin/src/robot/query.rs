@@ -12,9 +12,9 @@
 //!    `delta` (the gap of their world boxes along a world axis, a few comparisons, else the RSS
 //!    separating-axis bound), the pair cannot come within `delta` on that piece and the piece
 //!    is not split further. Each node's forward kinematics and placed volumes are computed once
-//!    and shared by every pair. For two links the speeds are relative to the deepest body both hang
-//!    from (the joints they share move both alike). The finest pieces that remain, merged, are
-//!    the pair's spans.
+//!    and shared by every pair. For two links the speeds are relative to the deepest body both
+//!    hang from (the joints they share move both alike). The finest pieces that remain, merged,
+//!    are the pair's spans.
 //! 3. **Advancement.** Each pair runs the rigid core's conservative advancement (the same step
 //!    search, with the chain bound in place of the rigid one) over each of its spans, earliest
 //!    span first. For the time of contact, a span that starts after the earliest contact found
@@ -199,10 +199,10 @@ struct VolumeCache {
     /// Per node and joint (`node * joints + joint`), the sine and cosine of the joint's value
     /// at the node's middle, filled when the node is posed.
     trig: Vec<(f64, f64)>,
-    /// Per level `L >= 1` and joint (`(L - 1) * joints + joint`), the sine and cosine of the joint's change over `2^-(L+1)`
-    /// of the segment: a node's middle is its parent's moved by that much, so its sines and
-    /// cosines follow from its parent's by the angle-addition formulas (one `sin_cos` per
-    /// joint and level instead of per joint and node).
+    /// Per level `L >= 1` and joint (`(L - 1) * joints + joint`), the sine and cosine of the
+    /// joint's change over `2^-(L+1)` of the segment: a node's middle is its parent's moved by
+    /// that much, so its sines and cosines follow from its parent's by the angle-addition
+    /// formulas (one `sin_cos` per joint and level instead of per joint and node).
     level_trig: Vec<(f64, f64)>,
 }
 
