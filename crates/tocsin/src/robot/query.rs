@@ -11,7 +11,11 @@
 //!    the two root volumes at the middle time are farther apart than the two growths plus
 //!    `delta` (the gap of their world boxes along a world axis, a few comparisons, else the RSS
 //!    separating-axis bound), the pair cannot come within `delta` on that piece and the piece
-//!    is not split further. Each node's forward kinematics and placed volumes are computed once
+//!    is dropped. When no axis separates the two volumes at the middle time, the whole piece
+//!    is kept without splitting it: measured on the MotionBenchMaker Panda bench's 1,470 edges,
+//!    the finer tests then culled almost nothing (self pairs on `table_under_pick`: none of
+//!    112 tests per edge below the second level), and keeping the piece took 13% fewer
+//!    instructions on free edges, 20% on colliding ones, 5% on start-goal edges. Each node's forward kinematics and placed volumes are computed once
 //!    and shared by every pair. For two links the speeds are relative to the deepest body both
 //!    hang from (the joints they share move both alike). The finest pieces that remain, merged,
 //!    are the pair's spans.
@@ -234,17 +238,18 @@ impl WorldVolume {
         }
     }
 
-    /// Whether the two volumes are certainly farther apart than `reach`: their boxes' gap
-    /// along a world axis first (a few comparisons, and most culled pairs stop there), then
-    /// the RSS separation bound. Either is a lower bound on the distance of what they hold.
-    fn apart(&self, other: &Self, reach: f64) -> bool {
+    /// A lower bound on the distance between the two volumes, exact enough to compare with
+    /// `reach`: their boxes' gap along a world axis when it exceeds `reach` (a few comparisons,
+    /// and most culled pairs stop there), else the RSS separating-axis bound (which may stop
+    /// early once it exceeds `reach`). At most 0 when no axis separates them.
+    fn separation(&self, other: &Self, reach: f64) -> f64 {
         let (a, b) = (&self.bounds, &other.bounds);
-        let gap = (a.0 - b.1).max(b.0 - a.1);
-        if gap.max_element() > reach {
-            return true;
+        let gap = (a.0 - b.1).max(b.0 - a.1).max_element();
+        if gap > reach {
+            return gap;
         }
         let rel = RelativeRss::in_common_frame(&self.rss, &other.rss);
-        rss_separation(&self.rss, &other.rss, &rel, reach).0 > reach
+        rss_separation(&self.rss, &other.rss, &rel, reach).0
     }
 }
 
@@ -416,10 +421,14 @@ impl<'r> Segment<'r> {
             (&cache.volumes[b], speeds.1 * half)
         };
         let reach = speeds.0 * half + grow_b + self.delta;
-        if cache.volumes[a].apart(b, reach) {
+        let gap = cache.volumes[a].separation(b, reach);
+        if gap > reach {
             return;
         }
-        if level == self.depth {
+        // Volumes that overlap at the middle time keep the whole piece: their halves, a
+        // quarter of it away, overlap too or nearly (a link and the next-but-one link, a hand
+        // over a table), so splitting costs forward kinematics and tests that cull nothing.
+        if level == self.depth || gap <= 0.0 {
             match out.last_mut() {
                 Some(last) if last.1 == ta => last.1 = tb,
                 _ => out.push((ta, tb)),
