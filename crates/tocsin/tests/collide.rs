@@ -74,3 +74,52 @@ fn hand_cases() {
     assert!(!collide(&big, &Pose::IDENTITY, &cube, &Pose::IDENTITY));
     assert!(collide(&big, &Pose::IDENTITY, &cube, &at(2.0, 0.0, 0.0)));
 }
+
+/// Near-touching meshes, where the volumes overlap far down the hierarchies and small subtrees
+/// are told apart by projecting their corners: knots (and a knot against a coarse soup) moved
+/// along their closest points' direction until they are `gap` apart (just apart, or just
+/// overlapping for a negative gap), at three scales, against brute force.
+#[test]
+fn near_touching_matches_brute_force() {
+    let mut rng = rng(12);
+    let (mut free, mut hit) = (0, 0);
+    for scale in [1e-3, 1.0, 1e4] {
+        let knot = mesh::torus_knot(40, 6).unwrap();
+        let knot = TriMesh::new(
+            knot.vertices().iter().map(|&v| v * scale).collect(),
+            knot.triangles().to_vec(),
+        )
+        .unwrap();
+        let soup = random_soup(&mut rng, 60, scale);
+        for i in 0..40 {
+            let other = if i % 3 == 0 { &soup } else { &knot };
+            let p2 = random_pose(&mut rng, 4.0 * scale);
+            let d =
+                tocsin::distance(&knot, &Pose::IDENTITY, other, &p2, &Default::default()).unwrap();
+            if d.distance <= 0.0 {
+                continue;
+            }
+            let n = (d.point2 - d.point1) / d.distance;
+            for rel in [1e-9, 1e-6, 1e-3, -1e-6] {
+                let gap = rel * scale;
+                let moved = Pose {
+                    rotation: p2.rotation,
+                    translation: p2.translation - n * (d.distance - gap),
+                };
+                let brute = brute_pairs(&knot, &Pose::IDENTITY, other, &moved);
+                assert_eq!(
+                    collide(&knot, &Pose::IDENTITY, other, &moved),
+                    !brute.is_empty(),
+                    "case {i} scale {scale} gap {gap}"
+                );
+                assert_eq!(collide_pairs(&knot, &Pose::IDENTITY, other, &moved), brute);
+                if brute.is_empty() {
+                    free += 1;
+                } else {
+                    hit += 1;
+                }
+            }
+        }
+    }
+    assert!(free > 80 && hit > 20, "free {free}, colliding {hit}");
+}

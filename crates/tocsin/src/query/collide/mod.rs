@@ -3,10 +3,14 @@
 //!
 //! Traversal of the two RSS hierarchies in mesh 1's frame; a node pair is skipped when a
 //! separating axis shows a positive gap (beyond a rounding slack, so touching is never
-//! skipped). Leaves use [`intersect_triangle_triangle`]. No OBB is kept: see ARCHITECTURE.md.
+//! skipped), or, for small subtrees, when their corners projected on the pair's near-points
+//! axis are apart by more than that slack after the corner columns' rounding bound (the
+//! triangles are the hulls of their corners). Leaves use [`intersect_triangle_triangle`]. No
+//! OBB is kept: see ARCHITECTURE.md.
 
-use crate::bvh::{rss_separation, Expansion, Lanes4, RelativeRss, Rss};
+use crate::bvh::{rss_separation, ColumnPair, Expansion, Lanes4, RelativeRss, Rss, PROJECT_MAX};
 use crate::math::Pose;
+use crate::math::Vec3;
 use crate::mesh::TriMesh;
 use crate::query::distance::intersect_triangle_triangle;
 
@@ -138,6 +142,10 @@ fn traverse(
         return;
     }
     let lanes = Lanes4::detect();
+    // Small subtree pairs whose volumes overlap are also bounded by projecting their corners
+    // on the lane's near-points axis (as in the distance search): near-touching meshes whose
+    // volumes overhang their triangles are told apart without descending to the leaves.
+    let columns = ColumnPair::new(bvh1, bvh2, &pos12);
     let mut stack: Vec<(u32, u32)> = vec![(root1, root2)];
     while let Some((n1, n2)) = stack.pop() {
         let Some(e) = Expansion::of(nodes1, n1, nodes2, n2) else {
@@ -153,14 +161,25 @@ fn traverse(
             continue;
         };
         // Two internal nodes are split together: four child pairs, one 4-lane bound.
-        let bounds = lanes
-            .expansion_bounds(&e, nodes1, nodes2, &rot12, trans12)
-            .gap;
+        let bounds = lanes.expansion_bounds(&e, nodes1, nodes2, &rot12, trans12);
         // Pushed last first, so that the first child pair is visited first.
         for &k in e.lanes.iter().rev() {
-            if bounds[k] <= slack {
-                stack.push(e.pair(k));
+            if bounds.gap[k] > slack {
+                continue;
             }
+            let (c1, c2) = e.pair(k);
+            if let Some(c) = &columns {
+                let (a, b) = (&nodes1[c1 as usize], &nodes2[c2 as usize]);
+                let u = Vec3::new(bounds.axis[0][k], bounds.axis[1][k], bounds.axis[2][k]);
+                if u != Vec3::ZERO
+                    && a.leaf_range().len() <= PROJECT_MAX
+                    && b.leaf_range().len() <= PROJECT_MAX
+                    && c.gap(lanes, (c1, a), (c2, b), u) > slack
+                {
+                    continue;
+                }
+            }
+            stack.push((c1, c2));
         }
     }
 }
