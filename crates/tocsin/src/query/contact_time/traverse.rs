@@ -324,18 +324,29 @@ impl<'a> StepSearch<'a> {
     /// Bound on the two point sets' speeds in any direction (over the window).
     #[inline]
     fn speed(&self, s1: &PointSet, s2: &PointSet) -> f64 {
-        let h = self.window;
-        let v1 = match &self.kin1 {
+        self.speed1(s1) + self.speed2(s2)
+    }
+
+    /// Bound on the speed of a point set of body 1 in any direction (over the window).
+    #[inline]
+    fn speed1(&self, s1: &PointSet) -> f64 {
+        match &self.kin1 {
             BodyKinematics::Rigid(k) => k.speed(s1.rho),
-            BodyKinematics::Chain(c) => c.speed(s1.center, s1.radius, h),
-        };
-        let v2 = match &self.kin2 {
+            BodyKinematics::Chain(c) => c.speed(s1.center, s1.radius, self.window),
+        }
+    }
+
+    /// Bound on the speed of a point set of body 2 in any direction (over the window).
+    #[inline]
+    fn speed2(&self, s2: &PointSet) -> f64 {
+        match &self.kin2 {
             BodyKinematics::Rigid(k) => k.speed(s2.rho),
-            BodyKinematics::Chain(c) => {
-                c.speed(self.rot12 * s2.center + self.trans12, s2.radius, h)
-            }
-        };
-        v1 + v2
+            BodyKinematics::Chain(c) => c.speed(
+                self.rot12 * s2.center + self.trans12,
+                s2.radius,
+                self.window,
+            ),
+        }
     }
 
     /// Certified step of a node pair whose relative frame is `rel`. The separating-axis search
@@ -555,14 +566,18 @@ impl<'a> StepSearch<'a> {
         let keep = self.best / (1.0 + self.slack);
         let mut children = [(0u32, 0u32, 0.0f64); 4];
         let mut m = 0;
+        // Each child's point set and speed once (a child is in two lanes when both split).
+        let sets1 =
+            e.a.map(|n| PointSet::node(&nodes1[n as usize], self.motion1));
+        let sets2 =
+            e.b.map(|n| PointSet::node(&nodes2[n as usize], self.motion2));
+        let speeds1 = [self.speed1(&sets1[0]), self.speed1(&sets1[1])];
+        let speeds2 = [self.speed2(&sets2[0]), self.speed2(&sets2[1])];
         for &k in e.lanes {
             let (c1, c2) = e.pair(k);
             let (a, b) = (&nodes1[c1 as usize], &nodes2[c2 as usize]);
-            let (s1, s2) = (
-                PointSet::node(a, self.motion1),
-                PointSet::node(b, self.motion2),
-            );
-            let speed = self.speed(&s1, &s2);
+            let (s1, s2) = (&sets1[k / 2], &sets2[k % 2]);
+            let speed = speeds1[k / 2] + speeds2[k % 2];
             let margin = bounds.gap[k] - 0.5 * self.delta;
             let mut step = if margin <= 0.0 {
                 0.0
@@ -578,13 +593,13 @@ impl<'a> StepSearch<'a> {
             let u = Vec3::new(bounds.axis[0][k], bounds.axis[1][k], bounds.axis[2][k]);
             if u != Vec3::ZERO {
                 let gap = self.gap_along(&a.rss, &b.rss, u);
-                step = step.max(self.step(gap, u, &s1, &s2));
+                step = step.max(self.step(gap, u, s1, s2));
                 // The corners' projection, only where the volumes did not prune.
                 if let (Some(c), true) = (&self.columns, step < keep) {
                     if a.leaf_range().len() <= PROJECT_MAX && b.leaf_range().len() <= PROJECT_MAX {
                         let projected = c.gap(self.lanes, (c1, a), (c2, b), u);
                         if projected > gap {
-                            step = step.max(self.step(projected, u, &s1, &s2));
+                            step = step.max(self.step(projected, u, s1, s2));
                         }
                     }
                 }
