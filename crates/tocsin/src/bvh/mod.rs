@@ -184,6 +184,13 @@ impl Bvh {
 /// least; before the greedy dive, 256 had been slower than 128 at 0.01 R.
 pub(crate) const PROJECT_MAX: usize = 256;
 
+/// Whether the subtrees of `a` and `b` both hold at most `max` triangles (the projection's
+/// size test: the distance search, the step search and `collide`).
+#[inline]
+pub(crate) fn both_at_most(a: &Node, b: &Node, max: usize) -> bool {
+    a.leaf_range().len() <= max && b.leaf_range().len() <= max
+}
+
 /// Three coordinate columns.
 type Columns = [Vec<f32>; 3];
 

@@ -15,8 +15,8 @@
 //!    is kept without splitting it: measured on the MotionBenchMaker Panda bench's 1,470 edges,
 //!    the finer tests then culled almost nothing (self pairs on `table_under_pick`: none of
 //!    112 tests per edge below the second level), and keeping the piece took 13% fewer
-//!    instructions on free edges, 20% on colliding ones, 5% on start-goal edges. Each node's forward kinematics and placed volumes are computed once
-//!    and shared by every pair. For two links the speeds are relative to the deepest body both
+//!    instructions on free edges, 20% on colliding ones, 5% on start-goal edges. Each node's
+//!    forward kinematics and placed volumes are computed once and shared by every pair. For two links the speeds are relative to the deepest body both
 //!    hang from (the joints they share move both alike). The finest pieces that remain, merged,
 //!    are the pair's spans.
 //! 3. **Advancement.** Each pair runs the rigid core's conservative advancement (the same step

@@ -8,9 +8,10 @@
 //! triangles are the hulls of their corners). Leaves use [`intersect_triangle_triangle`]. No
 //! OBB is kept: see ARCHITECTURE.md.
 
-use crate::bvh::{rss_separation, ColumnPair, Expansion, Lanes4, RelativeRss, Rss, PROJECT_MAX};
-use crate::math::Pose;
-use crate::math::Vec3;
+use crate::bvh::{
+    both_at_most, rss_separation, ColumnPair, Expansion, Lanes4, RelativeRss, Rss, PROJECT_MAX,
+};
+use crate::math::{Pose, Vec3};
 use crate::mesh::TriMesh;
 use crate::query::distance::intersect_triangle_triangle;
 
@@ -172,8 +173,7 @@ fn traverse(
                 let (a, b) = (&nodes1[c1 as usize], &nodes2[c2 as usize]);
                 let u = Vec3::new(bounds.axis[0][k], bounds.axis[1][k], bounds.axis[2][k]);
                 if u != Vec3::ZERO
-                    && a.leaf_range().len() <= PROJECT_MAX
-                    && b.leaf_range().len() <= PROJECT_MAX
+                    && both_at_most(a, b, PROJECT_MAX)
                     && c.gap(lanes, (c1, a), (c2, b), u) > slack
                 {
                     continue;

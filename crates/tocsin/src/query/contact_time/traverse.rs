@@ -11,8 +11,8 @@
 use super::shells::AxisShells;
 use super::Path;
 use crate::bvh::{
-    rss_separation, ASide, BSide, Bvh, ColumnPair, Expansion, Lanes4, Node, RelativeRss, Rss,
-    PROJECT_MAX,
+    both_at_most, rss_separation, ASide, BSide, Bvh, ColumnPair, Expansion, Lanes4, Node,
+    RelativeRss, Rss, PROJECT_MAX,
 };
 use crate::math::{Mat3, Pose, Vec3};
 use crate::motion::{Motion, Spread};
@@ -388,10 +388,7 @@ impl<'a> StepSearch<'a> {
         // on the same axis (from a towards b) are often farther apart, and the same motion
         // bound then certifies a longer step.
         if let Some(c) = &self.columns {
-            if gap > 0.0
-                && step * (1.0 + self.slack) < self.best
-                && a.leaf_range().len() <= PROJECT_MAX
-                && b.leaf_range().len() <= PROJECT_MAX
+            if gap > 0.0 && step * (1.0 + self.slack) < self.best && both_at_most(a, b, PROJECT_MAX)
             {
                 let projected = c.gap(self.lanes, (n1, a), (n2, b), n);
                 if projected > gap {

@@ -35,7 +35,8 @@
 use super::distance_triangle_triangle::distance_triangle_triangle;
 use super::{DistanceOptions, DistanceResult};
 use crate::bvh::{
-    rss_separation, Bvh, ColumnPair, Expansion, Lanes4, Node, RelativeRss, PROJECT_MAX,
+    both_at_most, rss_separation, Bvh, ColumnPair, Expansion, Lanes4, Node, RelativeRss,
+    PROJECT_MAX,
 };
 use crate::math::{Mat3, Pose, Vec3};
 use crate::mesh::TriMesh;
@@ -414,12 +415,6 @@ impl<'a> DistanceSearch<'a> {
         }
         false
     }
-}
-
-/// Whether the subtrees of `a` and `b` both hold at most `max` triangles.
-#[inline]
-fn both_at_most(a: &Node, b: &Node, max: usize) -> bool {
-    a.leaf_range().len() <= max && b.leaf_range().len() <= max
 }
 
 #[cfg(test)]
