@@ -49,7 +49,7 @@ pub(super) fn build(vertices: &[Vec3], triangles: &[[u32; 3]]) -> Bvh {
     build_subtree(&mut corners, &mut ids, &mut nodes, 0, 0, refine);
     let mut corner_columns = CornerColumns::new(&corners, nodes[0].rss.center);
     if let Some(c) = corner_columns.as_mut() {
-        c.add_distinct(&nodes, &ids, triangles, vertices.len());
+        c.add_distinct(&nodes, &ids, triangles, vertices);
     }
     Bvh {
         nodes,

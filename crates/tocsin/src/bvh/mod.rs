@@ -184,6 +184,18 @@ impl Bvh {
 /// least; before the greedy dive, 256 had been slower than 128 at 0.01 R.
 pub(crate) const PROJECT_MAX: usize = 256;
 
+/// Subtree pairs larger than [`PROJECT_MAX`] (up to this many triangles on the larger side) are
+/// also bounded by projecting their corners in the step search, for as long as that pays in one
+/// search: the first such projection is made, and later ones while at least one in
+/// `LARGE_PROJECT_RATIO` pruned its pair (such subtrees keep their distinct vertices too). Two
+/// links a centimetre apart (UR5's base and upper arm, 578 and 1,176 triangles) are then told
+/// apart near the roots; intertwined meshes (the knots) stop trying after a miss.
+/// Measured in instructions (fifteenth session; always projecting up to 512 / 1,024: box_ur5
+/// 54.5M -> 40.7M / 32.5M but knot2.8k 135.8M -> 150.9M / 164.4M): with this rule box_ur5
+/// 54.3M -> 38.6M, the Panda bench's free edges 450.4M -> 438.1M, knot2.8k and knot34k +1%
+/// (134.5M -> 136.3M, 272.8M -> 274.9M), colliding and start-goal edges unchanged.
+pub(crate) const LARGE_PROJECT_MAX: usize = 1024;
+
 /// Whether the subtrees of `a` and `b` both hold at most `max` triangles (the projection's
 /// size test: the distance search, the step search and `collide`).
 #[inline]
@@ -194,7 +206,23 @@ pub(crate) fn both_at_most(a: &Node, b: &Node, max: usize) -> bool {
 /// Three coordinate columns.
 type Columns = [Vec<f32>; 3];
 
-/// Subtrees of more triangles than this (up to [`PROJECT_MAX`]) also keep their distinct
+/// For each vertex, the first index of a vertex at exactly the same position (bitwise, with
+/// `-0.0` and `0.0` alike), found by sorting the indices by position (in parallel).
+fn same_position(vertices: &[Vec3]) -> Vec<u32> {
+    use rayon::prelude::*;
+    let key = |v: &Vec3| [v.x + 0.0, v.y + 0.0, v.z + 0.0].map(f64::to_bits);
+    let mut order: Vec<u32> = (0..vertices.len() as u32).collect();
+    order.par_sort_unstable_by_key(|&i| (key(&vertices[i as usize]), i));
+    let mut same: Vec<u32> = (0..vertices.len() as u32).collect();
+    for run in order.chunk_by(|&a, &b| key(&vertices[a as usize]) == key(&vertices[b as usize])) {
+        for &i in run {
+            same[i as usize] = run[0];
+        }
+    }
+    same
+}
+
+/// Subtrees of more triangles than this (up to [`LARGE_PROJECT_MAX`]) also keep their distinct
 /// vertices, when that saves at least a third of the corners.
 const DISTINCT_MIN: usize = 16;
 
@@ -252,26 +280,32 @@ impl CornerColumns {
     }
 
     /// Adds the distinct vertices of the subtrees of more than [`DISTINCT_MIN`] and at most
-    /// [`PROJECT_MAX`] triangles (`ids`: original triangle index per leaf position; indices in
-    /// `triangles` below `vertex_count`), where
-    /// that saves at least a third of their corners (a soup without shared vertices saves
-    /// nothing). The vertices are copied from the corner columns, so the error bound holds.
+    /// [`LARGE_PROJECT_MAX`] triangles (`ids`: original triangle index per leaf position;
+    /// `triangles` index `vertices`), where that saves at least a third of their corners.
+    /// Vertices are told apart by position, not by index: many files repeat each shared vertex
+    /// per face (the MotionBenchMaker Panda's OBJ links: 900 vertices for 300 triangles, 152
+    /// positions), and a soup without shared positions saves nothing. The points are copied
+    /// from the corner columns, so the error bound holds.
     pub(crate) fn add_distinct(
         &mut self,
         nodes: &[Node],
         ids: &[u32],
         triangles: &[[u32; 3]],
-        vertex_count: usize,
+        vertices: &[Vec3],
     ) {
         use rayon::prelude::*;
-        // The triangles' vertex indices in leaf order (one gather here), read in order below
-        // next to the corner columns, which already hold the vertices' coordinates.
-        let leaf_triangles: Vec<[u32; 3]> =
-            ids.par_iter().map(|&id| triangles[id as usize]).collect();
+        let same = same_position(vertices);
+        let vertex_count = vertices.len();
+        // The triangles' vertices (the first index at each position) in leaf order (one gather
+        // here), read in order below next to the corner columns, which hold their coordinates.
+        let leaf_triangles: Vec<[u32; 3]> = ids
+            .par_iter()
+            .map(|&id| triangles[id as usize].map(|v| same[v as usize]))
+            .collect();
         let eligible: Vec<u32> = (0..nodes.len() as u32)
             .into_par_iter()
             .filter(|&i| {
-                (DISTINCT_MIN + 1..=PROJECT_MAX).contains(&(nodes[i as usize].count as usize))
+                (DISTINCT_MIN + 1..=LARGE_PROJECT_MAX).contains(&(nodes[i as usize].count as usize))
             })
             .collect();
         // In parallel over runs of nodes, each with its own marks; then concatenated in order.

@@ -612,30 +612,58 @@ mod tests {
     }
 
     /// The points kept for a subtree (distinct vertices or corners) are exactly its corners'
-    /// positions, and the distinct vertices are used where they save corners.
+    /// positions, and the distinct vertices are used where they save corners: on a mesh that
+    /// shares its vertices by index, and on the same mesh written as a soup (each triangle its
+    /// own three vertices, as many files store them), where only positions tell them apart.
     #[test]
     fn subtree_points_are_its_corners() {
-        use crate::bvh::PROJECT_MAX;
+        use crate::bvh::LARGE_PROJECT_MAX;
         use std::collections::HashSet;
         let knot = crate::mesh::torus_knot(60, 8).unwrap_or_else(|e| unreachable!("{e}"));
-        let bvh = knot.bvh();
-        let c = bvh.corner_columns();
-        assert!(c.is_some(), "no columns");
-        let Some(c) = c else { return };
-        let key =
-            |cols: [&[f32]; 3], i: usize| [cols[0][i], cols[1][i], cols[2][i]].map(f32::to_bits);
-        let mut used = 0;
-        for (i, node) in bvh.nodes().iter().enumerate() {
-            if node.leaf_range().len() > PROJECT_MAX {
-                continue;
+        let soup_vertices: Vec<Vec3> = knot
+            .triangles()
+            .iter()
+            .flat_map(|t| t.map(|i| knot.vertices()[i as usize]))
+            .collect();
+        let soup_triangles = (0..knot.triangles().len() as u32)
+            .map(|i| [3 * i, 3 * i + 1, 3 * i + 2])
+            .collect();
+        let soup = crate::TriMesh::new(soup_vertices, soup_triangles).expect("soup");
+        for mesh in [&knot, &soup] {
+            let bvh = mesh.bvh();
+            let c = bvh.corner_columns();
+            assert!(c.is_some(), "no columns");
+            let Some(c) = c else { return };
+            let key = |cols: [&[f32]; 3], i: usize| {
+                [cols[0][i], cols[1][i], cols[2][i]].map(f32::to_bits)
+            };
+            let mut used = 0;
+            for (i, node) in bvh.nodes().iter().enumerate() {
+                if node.leaf_range().len() > LARGE_PROJECT_MAX {
+                    continue;
+                }
+                let corners = c.columns(node.leaf_range());
+                let points = c.points(i as u32, node);
+                let want: HashSet<_> = (0..corners[0].len()).map(|k| key(corners, k)).collect();
+                let got: HashSet<_> = (0..points[0].len()).map(|k| key(points, k)).collect();
+                assert_eq!(want, got, "node {i}");
+                used += usize::from(points[0].len() < corners[0].len());
             }
-            let corners = c.columns(node.leaf_range());
-            let points = c.points(i as u32, node);
-            let want: HashSet<_> = (0..corners[0].len()).map(|k| key(corners, k)).collect();
-            let got: HashSet<_> = (0..points[0].len()).map(|k| key(points, k)).collect();
-            assert_eq!(want, got, "node {i}");
-            used += usize::from(points[0].len() < corners[0].len());
+            assert!(used > 10, "distinct vertices used for {used} subtrees");
         }
-        assert!(used > 10, "distinct vertices used for {used} subtrees");
+    }
+
+    /// Vertices at one position share the first index there, whatever their order; others
+    /// keep their own; `-0.0` and `0.0` are one position.
+    #[test]
+    fn same_position_groups_equal_vertices() {
+        let v = [
+            Vec3::new(1.0, 2.0, 3.0),
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::new(1.0, 2.0, 3.0),
+            Vec3::new(-0.0, 0.0, -0.0),
+            Vec3::new(1.0, 2.0, 3.0 + f64::EPSILON * 4.0),
+        ];
+        assert_eq!(crate::bvh::same_position(&v), vec![0, 1, 0, 1, 4]);
     }
 }

@@ -12,7 +12,7 @@ use super::shells::AxisShells;
 use super::Path;
 use crate::bvh::{
     both_at_most, rss_separation, ASide, BSide, Bvh, ColumnPair, Expansion, Lanes4, Node,
-    RelativeRss, Rss, PROJECT_MAX,
+    RelativeRss, Rss, LARGE_PROJECT_MAX, PROJECT_MAX,
 };
 use crate::math::{Mat3, Pose, Vec3};
 use crate::motion::{Motion, Spread};
@@ -20,17 +20,8 @@ use crate::query::distance::distance_triangle_triangle;
 use crate::robot::chain::ChainKinematics;
 use crate::TriMesh;
 
-/// Subtree pairs larger than [`PROJECT_MAX`] (up to this many triangles on the larger side) are
-/// also bounded by projecting their corners, for as long as that pays in this search: the first
-/// such projection is made, and later ones while at least one in [`LARGE_PROJECT_RATIO`] pruned
-/// its pair. Two links a centimetre apart (UR5's base and upper arm, 578 and 1,176 triangles)
-/// are then told apart near the roots; intertwined meshes (the knots) stop trying after a miss.
-/// Measured in instructions (fifteenth session; always projecting up to 512 / 1,024: box_ur5
-/// 54.5M -> 40.7M / 32.5M but knot2.8k 135.8M -> 150.9M / 164.4M): with this rule box_ur5
-/// 54.3M -> 38.6M, the Panda bench's free edges 450.4M -> 438.1M, knot2.8k and knot34k +1%
-/// (134.5M -> 136.3M, 272.8M -> 274.9M), colliding and start-goal edges unchanged.
-const LARGE_PROJECT_MAX: usize = 1024;
-/// See [`LARGE_PROJECT_MAX`].
+/// Larger subtree pairs (up to [`LARGE_PROJECT_MAX`]) are projected while at least one such
+/// projection in this many pruned its pair (see [`LARGE_PROJECT_MAX`]).
 const LARGE_PROJECT_RATIO: usize = 4;
 
 /// What one iteration found.
