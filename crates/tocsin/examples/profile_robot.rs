@@ -3,7 +3,9 @@
 //! Scene lines: `box name sx sy sz px py pz qx qy qz qw` or `cylinder name length radius px py
 //! pz qx qy qz qw` (MoveIt's conventions). Configurations: random within limits, edges of
 //! 0.5 rad from them. With `REPLAY=manifest`, replays the edges of a manifest instead (see
-//! `replay`).
+//! `replay`). With `COLD=1`, each edge is timed cache-cold instead (the least of five calls,
+//! each after writing 40 MB elsewhere): the benchmark calls tocsin, coal and HPP in turn on
+//! every edge, which evicts each other's data and code, and cold calls cost 2-3x warm ones.
 
 use rand::{Rng, SeedableRng};
 use std::sync::Arc;
@@ -50,6 +52,23 @@ fn main() {
             .zip(&limits)
             .map(|((q, d), (lo, hi))| (q + 0.5 * d / norm).clamp(*lo, *hi))
             .collect();
+        if std::env::var_os("COLD").is_some() {
+            let mut dt = f64::INFINITY;
+            let mut free = false;
+            for _ in 0..5 {
+                thrash();
+                let t = Instant::now();
+                free = query::path_is_free(&robot, &q0, &q1, &scene, &opts).expect("free");
+                dt = dt.min(t.elapsed().as_secs_f64() * 1e6);
+            }
+            if free {
+                n_free += 1;
+                free_t.push(dt);
+            } else {
+                coll_t.push(dt);
+            }
+            continue;
+        }
         let t = Instant::now();
         let free = if use_cache {
             query::path_is_free_with_cache(&robot, &q0, &q1, &scene, &opts, &mut shared)
@@ -162,4 +181,14 @@ fn robot_cyl(length: f64, radius: f64) -> TriMesh {
     );
     let r = Robot::from_urdf_str(&xml, None, &[]).expect("cyl");
     (*r.objects()[0].mesh).clone()
+}
+
+/// Evicts the caches: writes one byte per line of 40 MB.
+#[inline(never)]
+fn thrash() {
+    let mut junk = vec![1u8; 40 << 20];
+    for (i, b) in junk.iter_mut().enumerate().step_by(64) {
+        *b = b.wrapping_add(i as u8);
+    }
+    std::hint::black_box(&junk);
 }
