@@ -3,9 +3,12 @@
 //! Scene lines: `box name sx sy sz px py pz qx qy qz qw` or `cylinder name length radius px py
 //! pz qx qy qz qw` (MoveIt's conventions). Configurations: random within limits, edges of
 //! 0.5 rad from them. With `REPLAY=manifest`, replays the edges of a manifest instead (see
-//! `replay`). With `COLD=1`, each edge is timed cache-cold instead (the least of five calls,
-//! each after writing 40 MB elsewhere): the benchmark calls tocsin, coal and HPP in turn on
-//! every edge, which evicts each other's data and code, and cold calls cost 2-3x warm ones.
+//! `replay`; `TIMES=1` also times each replayed edge, the least of five warm calls, and prints
+//! the median per scenario and kind). With `COLD=1`, each edge is timed cache-cold instead
+//! (the least of five calls, each after writing 40 MB elsewhere): what a call costs when the
+//! caller's own work has evicted tocsin's data and code, 2-3x a warm call on table_under_pick.
+//! (The robot benchmark runs each checker over a scene's edges as a block, so its calls are
+//! warmer than this.)
 
 use rand::{Rng, SeedableRng};
 use std::sync::Arc;
@@ -153,13 +156,29 @@ fn replay(robot: &Robot, manifest: &str) {
     let opts = RobotOptions::default();
     let parse = |s: &str| -> Vec<f64> { s.split(',').map(|x| x.parse().expect("value")).collect() };
     let mut counts = std::collections::BTreeMap::new();
+    let mut times: std::collections::BTreeMap<(String, String), Vec<f64>> = Default::default();
+    let timed = std::env::var_os("TIMES").is_some();
     for line in std::fs::read_to_string(manifest).expect("manifest").lines() {
         let f: Vec<&str> = line.split_whitespace().collect();
         let scene = load_scene(f[1]);
         for edge in std::fs::read_to_string(f[2]).expect("edges").lines() {
             let e: Vec<&str> = edge.split_whitespace().collect();
-            let free = query::path_is_free(robot, &parse(e[1]), &parse(e[2]), &scene, &opts)
-                .expect("free");
+            let (q0, q1) = (parse(e[1]), parse(e[2]));
+            let free = query::path_is_free(robot, &q0, &q1, &scene, &opts).expect("free");
+            if timed {
+                let best = (0..5)
+                    .map(|_| {
+                        let t = Instant::now();
+                        let _ = query::path_is_free(robot, &q0, &q1, &scene, &opts);
+                        t.elapsed().as_secs_f64() * 1e6
+                    })
+                    .fold(f64::INFINITY, f64::min);
+                let kind = if free { "free" } else { "colliding" };
+                times
+                    .entry((f[0].to_string(), format!("{} {kind}", e[0])))
+                    .or_default()
+                    .push(best);
+            }
             let c = counts
                 .entry((f[0].to_string(), e[0].to_string()))
                 .or_insert((0, 0));
@@ -172,6 +191,15 @@ fn replay(robot: &Robot, manifest: &str) {
     }
     for ((scenario, kind), (free, colliding)) in counts {
         println!("{scenario} {kind}: {free} free, {colliding} colliding");
+    }
+    for ((scenario, kind), mut t) in times {
+        t.sort_by(f64::total_cmp);
+        println!(
+            "{scenario} {kind}: {} edges, median {:.1} us, mean {:.1} us (least of 5 calls each)",
+            t.len(),
+            t[t.len() / 2],
+            t.iter().sum::<f64>() / t.len() as f64
+        );
     }
 }
 
