@@ -158,14 +158,22 @@ fn replay(robot: &Robot, manifest: &str) {
     let mut counts = std::collections::BTreeMap::new();
     let mut times: std::collections::BTreeMap<(String, String), Vec<f64>> = Default::default();
     let timed = std::env::var_os("TIMES").is_some();
+    let mut firsts: std::collections::BTreeMap<(String, String), Vec<f64>> = Default::default();
     for line in std::fs::read_to_string(manifest).expect("manifest").lines() {
         let f: Vec<&str> = line.split_whitespace().collect();
         let scene = load_scene(f[1]);
         for edge in std::fs::read_to_string(f[2]).expect("edges").lines() {
             let e: Vec<&str> = edge.split_whitespace().collect();
             let (q0, q1) = (parse(e[1]), parse(e[2]));
+            let t0 = Instant::now();
             let free = query::path_is_free(robot, &q0, &q1, &scene, &opts).expect("free");
+            let first = t0.elapsed().as_secs_f64() * 1e6;
             if timed {
+                let kind = if free { "free" } else { "colliding" };
+                firsts
+                    .entry((f[0].to_string(), format!("{} {kind}", e[0])))
+                    .or_default()
+                    .push(first);
                 let best = (0..5)
                     .map(|_| {
                         let t = Instant::now();
@@ -199,6 +207,15 @@ fn replay(robot: &Robot, manifest: &str) {
             t.len(),
             t[t.len() / 2],
             t.iter().sum::<f64>() / t.len() as f64
+        );
+        let mut f = firsts
+            .remove(&(scenario.clone(), kind.clone()))
+            .unwrap_or_default();
+        f.sort_by(f64::total_cmp);
+        println!(
+            "{scenario} {kind}: first calls, median {:.1} us, mean {:.1} us",
+            f[f.len() / 2],
+            f.iter().sum::<f64>() / f.len() as f64
         );
     }
 }
