@@ -134,7 +134,7 @@ pub struct ContactTime {
 /// Carries the last closest triangle pair across queries on the same mesh pair.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct ContactCache {
-    pair: Option<(u32, u32)>,
+    pub(crate) pair: Option<(u32, u32)>,
 }
 
 /// The tolerance a query with these options uses on these meshes and motions (model units):
@@ -414,7 +414,7 @@ pub fn time_of_contact_batch(
 pub(crate) struct Ends {
     pub time: f64,
     earlier: Option<f64>,
-    resolution: f64,
+    pub resolution: f64,
     pub iterations: usize,
     pub status: ContactStatus,
 }

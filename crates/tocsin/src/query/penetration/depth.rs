@@ -39,6 +39,12 @@
 //!    the continuous query returns, one per out-projection: a deviation) are tried shortest
 //!    first, each by out-projecting along its direction; the first shorter touching
 //!    translation is accepted, so the depth never grows, and the iteration ends when none is.
+//!    A candidate that is not shorter keeps only its contact plane, and takes its normal from
+//!    the triangle pair that ended its continuous query (within the tolerance there) rather
+//!    than from an exact distance query near contact; a shorter one, the new best, gets the
+//!    exact distance (knot2.8k: 4%, 3% and 10% fewer instructions at 1%, 5% and 20% of the
+//!    radius; the depths the same on 141 of 144 queries, within 0.5% on the others; taking the
+//!    seeds' normals from their pairs too lost the polish's 1e-3 gap on a shallow test case).
 //!    A candidate whose samples still penetrate at the current length is dropped there, before
 //!    its continuous query (it could not be shorter; its contact plane is then not kept): at
 //!    20% of the radius 640 of a knot2.8k's 842 continuous queries were the refinement's, and
@@ -66,6 +72,7 @@ use crate::query::collide::intersecting_leaves;
 use crate::query::contact_time::{
     advance, effective_tolerance, finish, ContactCache, ContactOptions, Ends, Path,
 };
+use crate::query::distance::distance_triangle_triangle;
 use crate::query::penetration::convex;
 use crate::query::penetration::winding::inside;
 use crate::TriMesh;
@@ -187,6 +194,10 @@ struct Touch {
     normal: Vec3,
     point1: Vec3,
     point2: Vec3,
+    /// The out-projection, when the normal and witnesses above are those of the triangle pair
+    /// that ended its continuous query rather than of the exact distance ([`touch`]): what
+    /// [`exact`] finishes.
+    pending: Option<Pending>,
 }
 
 /// An out-projection whose continuous query has ended, its witnesses not yet computed: the
@@ -232,7 +243,7 @@ fn out_project(
         let s = sample(far, k);
         if !penetrating(mesh1, pose1, mesh2, &shifted(pose2, d * s), &mut hint) {
             return Ok(come_back(mesh1, pose1, mesh2, pose2, d, s, options)?
-                .map(|p| complete(mesh1, pose1, mesh2, p)));
+                .map(|p| touch(mesh1, pose1, mesh2, p)));
         }
         if s >= beat {
             return Ok(None);
@@ -355,6 +366,38 @@ fn shortest_seeds(
     Ok(kept.into_iter().map(|(_, p)| p).collect())
 }
 
+/// An out-projection's touching translation with the normal and witnesses of the triangle
+/// pair that ended its continuous query (within the tolerance there): a contact plane for the
+/// refinement at the cost of one triangle pair, where the exact distance ([`complete`]) costs
+/// a search near contact. Only the answer needs the exact witnesses ([`exact`]). Falls back to
+/// [`complete`] when the pair touches (its direction would be rounding noise).
+fn touch(mesh1: &TriMesh, pose1: &Pose, mesh2: &TriMesh, p: Pending) -> Touch {
+    if let Some((l1, l2)) = p.cache.pair {
+        let pose2 = p.motion.pose_at(p.ends.time);
+        let a = mesh1.bvh().leaf_triangles()[l1 as usize].map(|v| pose1.transform_point(v));
+        let b = mesh2.bvh().leaf_triangles()[l2 as usize].map(|v| pose2.transform_point(v));
+        let d = distance_triangle_triangle(&a, &b);
+        if d.distance > p.ends.resolution {
+            return Touch {
+                translation: p.d * p.s0 * (1.0 - p.ends.time),
+                normal: (d.point2 - d.point1) / d.distance,
+                point1: d.point1,
+                point2: d.point2,
+                pending: Some(p),
+            };
+        }
+    }
+    complete(mesh1, pose1, mesh2, p)
+}
+
+/// `t` with the exact normal and witnesses (see [`touch`]).
+fn exact(mesh1: &TriMesh, pose1: &Pose, mesh2: &TriMesh, t: Touch) -> Touch {
+    match t.pending {
+        Some(p) => complete(mesh1, pose1, mesh2, p),
+        None => t,
+    }
+}
+
 /// The witnesses of an out-projection (the continuous query's last step).
 fn complete(mesh1: &TriMesh, pose1: &Pose, mesh2: &TriMesh, p: Pending) -> Touch {
     let still = Motion::stationary(*pose1);
@@ -372,6 +415,7 @@ fn complete(mesh1: &TriMesh, pose1: &Pose, mesh2: &TriMesh, p: Pending) -> Touch
         normal: c.normal,
         point1: c.point1,
         point2: c.point2,
+        pending: None,
     }
 }
 
@@ -457,8 +501,15 @@ fn refine(
                 hint,
                 t.length() * (1.0 - 1e-9),
             )? {
+                let shorter = c.translation.length() < t.length() * (1.0 - 1e-9);
+                // The new best's plane and normal are exact (the next targets come from it).
+                let c = if shorter {
+                    exact(mesh1, pose1, mesh2, c)
+                } else {
+                    c
+                };
                 remember(&mut planes, (c.normal, c.normal.dot(c.translation)));
-                if c.translation.length() < t.length() * (1.0 - 1e-9) {
+                if shorter {
                     best = c;
                     improved = true;
                     break;
@@ -670,6 +721,7 @@ pub fn penetration_depth(
         });
     };
     let best = polish(mesh1, pose1, mesh2, pose2, best, &contact_options)?;
+    let best = exact(mesh1, pose1, mesh2, best);
     let depth = best.translation.length();
     Ok(PenetrationDepth {
         depth,
