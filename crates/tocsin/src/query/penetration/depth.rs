@@ -846,7 +846,7 @@ mod tests {
     /// answer is the interval's end (just past it the pair is apart) in most cases.
     #[test]
     fn a_pair_holds_until_its_interval_ends() {
-        let a = mesh::torus_knot(60, 6).unwrap();
+        let a = mesh::torus_knot(60, 6).expect("knot");
         let mut rng = ChaCha8Rng::seed_from_u64(3);
         let unit = |rng: &mut ChaCha8Rng| loop {
             let v = Vec3::new(
