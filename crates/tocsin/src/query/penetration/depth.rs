@@ -391,8 +391,8 @@ fn shortest_seeds(
     let dirs: Vec<Option<Vec3>> = seeds.iter().map(|d| d.try_normalize()).collect();
     // Each direction's last intersecting pair, the pose's own at first.
     let mut hints = vec![hint; dirs.len()];
-    // Per direction, a shift its current intersecting pair meets at (NaN until computed).
-    let mut until = vec![f64::NAN; dirs.len()];
+    // Per direction, a shift its current intersecting pair meets at (-inf until computed).
+    let mut until = vec![f64::NEG_INFINITY; dirs.len()];
     let mut alive: Vec<usize> = (0..dirs.len()).filter(|&i| dirs[i].is_some()).collect();
     let mut kept: Vec<(usize, Pending)> = Vec::new();
     let bound = |kept: &[(usize, Pending)]| match kept.first() {
@@ -422,11 +422,11 @@ fn shortest_seeds(
                 // still meets at (see `holds_until`): computed once per pair, and only once a
                 // bound is there to compare with.
                 let limit = bound(&kept);
-                if limit.is_finite() && (hints[i] != before || !until[i].is_finite()) {
+                if limit.is_finite() && (hints[i] != before || until[i] == f64::NEG_INFINITY) {
                     until[i] = hints[i]
                         .map_or(s, |h| holds_until(mesh1, pose1, mesh2, pose2, h, d).max(s));
                 }
-                if s <= limit && !(until[i] >= limit) {
+                if s <= limit && until[i] < limit {
                     still_alive.push(i);
                 }
             } else {
