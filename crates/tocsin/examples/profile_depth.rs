@@ -1,5 +1,6 @@
 //! Penetration depth on a torus knot and a turned copy pushed in by 5% of the radius, timed
-//! over several directions (for profiling): `profile_depth [n_u n_v] [fraction]`.
+//! over several directions (for profiling): `profile_depth [n_u n_v] [fraction]`; with
+//! `MESH=file.obj`, that mesh instead of the knot (`n_u n_v` ignored).
 use std::time::Instant;
 use tocsin::{
     mesh, penetration_depth, time_of_contact, ContactOptions, DepthOptions, Mat3, Motion, Pose,
@@ -11,7 +12,11 @@ fn main() {
     let n_u: usize = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(175);
     let n_v: usize = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(8);
     let f: f64 = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(0.05);
-    let m = mesh::torus_knot(n_u, n_v).expect("knot");
+    // A mesh file instead of the knot: `MESH=file.obj profile_depth 0 0 [fraction]`.
+    let m = match std::env::var("MESH") {
+        Ok(path) => tocsin::TriMesh::load(path).expect("mesh"),
+        Err(_) => mesh::torus_knot(n_u, n_v).expect("knot"),
+    };
     let r = m.bounding_radius();
     let mut times = Vec::new();
     for k in 0..24 {
