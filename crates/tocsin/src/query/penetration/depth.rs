@@ -51,12 +51,14 @@
 //!    the continuous query returns, one per out-projection: a deviation) are tried shortest
 //!    first, each by out-projecting along its direction; the first shorter touching
 //!    translation is accepted, so the depth never grows, and the iteration ends when none is.
-//!    A candidate that is not shorter keeps only its contact plane, and takes its normal from
-//!    the triangle pair that ended its continuous query (within the tolerance there) rather
-//!    than from an exact distance query near contact; a shorter one, the new best, gets the
-//!    exact distance (knot2.8k: 4%, 3% and 10% fewer instructions at 1%, 5% and 20% of the
-//!    radius; the depths the same on 141 of 144 queries, within 0.5% on the others; taking the
-//!    seeds' normals from their pairs too lost the polish's 1e-3 gap on a shallow test case).
+//!    A refinement candidate's contact normal (its plane, and the new best's) comes from the
+//!    triangle pair that ended its continuous query (within the tolerance there) rather than
+//!    from an exact distance query near contact; only the seeds and the answer get the exact
+//!    distance (knot2.8k: 4%, 3% and 10% fewer instructions at 1%, 5% and 20% of the radius
+//!    for the candidates that are not shorter, depths the same on 141 of 144 queries and
+//!    within 0.5% on the others; then 3%, 3% and 8% for the new bests too, depths within
+//!    0.03%; taking the seeds' normals from their pairs as well lost the polish's 1e-3 gap on
+//!    a shallow test case).
 //!    A direction is out-projected once per start: against a best that only shrinks, the same
 //!    direction again could not give a shorter translation (knot2.8k: 5%, 6% and 24% fewer
 //!    instructions at 1%, 5% and 20% of the radius, knot11k 16% at 20%; depths within 0.03% of
@@ -625,15 +627,8 @@ fn refine(
                 hint,
                 t.length() * (1.0 - 1e-9),
             )? {
-                let shorter = c.translation.length() < t.length() * (1.0 - 1e-9);
-                // The new best's plane and normal are exact (the next targets come from it).
-                let c = if shorter {
-                    exact(mesh1, pose1, mesh2, c)
-                } else {
-                    c
-                };
                 remember(&mut planes, (c.normal, c.normal.dot(c.translation)));
-                if shorter {
+                if c.translation.length() < t.length() * (1.0 - 1e-9) {
                     best = c;
                     improved = true;
                     break;
