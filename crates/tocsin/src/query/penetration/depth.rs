@@ -416,20 +416,20 @@ fn shortest_seeds(
     };
     for k in 1..=RAY_SAMPLES {
         let s = sample(far, k);
+        // A freed direction's translation is longer than its last penetrating sample (below):
+        // at or beyond the bound, this round's samples cannot keep any direction whatever they
+        // show, and the search is over.
+        let last = if k > 1 { sample(far, k - 1) } else { 0.0 };
+        if last >= bound(&kept) {
+            break;
+        }
         let mut still_alive = Vec::with_capacity(alive.len());
         // The directions that free up at this sample: their continuous queries run after the
         // round's samples, so that the round's other frees cannot be skipped by its samples
         // alone (below).
         let mut freed = Vec::new();
-        // A freed direction's translation is longer than its last penetrating sample (below):
-        // at or beyond the bound, this sample cannot keep the direction whatever it shows.
-        let last = if k > 1 { sample(far, k - 1) } else { 0.0 };
-        let beyond = last >= bound(&kept);
         for &i in &alive {
             let Some(d) = dirs[i] else { continue };
-            if beyond {
-                continue;
-            }
             let before = hints[i];
             if penetrating(mesh1, pose1, mesh2, &shifted(pose2, d * s), &mut hints[i]) {
                 // The direction's translation is longer than the shifts its intersecting pair
@@ -858,7 +858,8 @@ pub fn penetration_depth(
 mod tests {
     use super::*;
     use crate::mesh;
-    use rand::{Rng, SeedableRng};
+    use crate::motion::sampling::unit;
+    use rand::SeedableRng;
     use rand_chacha::ChaCha8Rng;
 
     /// The pair-interval bound only skips work that could not change the answer: with and
@@ -869,14 +870,6 @@ mod tests {
     fn pair_bounds_change_no_answer() {
         let m = mesh::torus_knot(100, 8).expect("knot");
         let r = m.bounding_radius();
-        let unit = |rng: &mut ChaCha8Rng| {
-            Vec3::new(
-                rng.random_range(-1.0..1.0),
-                rng.random_range(-1.0..1.0),
-                rng.random_range(-1.0..1.0),
-            )
-            .normalize()
-        };
         let queries = |on: bool| {
             let mut rng = ChaCha8Rng::seed_from_u64(11);
             PAIR_BOUNDS.with(|c| c.set(on));
@@ -922,16 +915,6 @@ mod tests {
     fn a_pair_holds_until_its_interval_ends() {
         let a = mesh::torus_knot(60, 6).expect("knot");
         let mut rng = ChaCha8Rng::seed_from_u64(3);
-        let unit = |rng: &mut ChaCha8Rng| loop {
-            let v = Vec3::new(
-                rng.random_range(-1.0..1.0),
-                rng.random_range(-1.0..1.0),
-                rng.random_range(-1.0..1.0),
-            );
-            if let Some(u) = v.try_normalize() {
-                return u;
-            }
-        };
         let pose1 = Pose::IDENTITY;
         let (mut checked, mut tight) = (0, 0);
         while checked < 300 {
