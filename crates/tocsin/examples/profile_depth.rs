@@ -1,10 +1,11 @@
 //! Penetration depth on a torus knot and a turned copy pushed in by 5% of the radius, timed
 //! over several directions (for profiling): `profile_depth [n_u n_v] [fraction]`; with
-//! `MESH=file.obj`, that mesh instead of the knot (`n_u n_v` ignored).
+//! `MESH=file.obj`, that mesh instead of the knot (`n_u n_v` ignored); with `POINTWISE=rel`, the
+//! pointwise penetration depth (error `rel` times the radius) at the same poses instead.
 use std::time::Instant;
 use tocsin::{
-    mesh, penetration_depth, time_of_contact, ContactOptions, DepthOptions, Mat3, Motion, Pose,
-    Vec3,
+    mesh, penetration_depth, pointwise_penetration, time_of_contact, ContactOptions, DepthOptions,
+    Mat3, Motion, Pose, Vec3,
 };
 
 fn main() {
@@ -43,6 +44,17 @@ fn main() {
         let Some(c) = c else { continue };
         let p2 = Pose::new(rot, u * (far * (1.0 - c.time) - f * r)).expect("pose");
         let clock = Instant::now();
+        if let Some(rel) = std::env::var("POINTWISE")
+            .ok()
+            .and_then(|s| s.parse::<f64>().ok())
+        {
+            let p = pointwise_penetration(&m, &Pose::IDENTITY, &m, &p2, rel * r).expect("pw");
+            times.push(clock.elapsed().as_secs_f64() * 1e3);
+            if std::env::var("DEPTHS").is_ok() {
+                println!("{k} {:.17e} {:.17e}", p.depth, p.upper_bound);
+            }
+            continue;
+        }
         let d =
             penetration_depth(&m, &Pose::IDENTITY, &m, &p2, &DepthOptions::default()).expect("pd");
         times.push(clock.elapsed().as_secs_f64() * 1e3);

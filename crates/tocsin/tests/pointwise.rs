@@ -7,7 +7,10 @@
 mod common;
 
 use common::brute_point_distance;
-use tocsin::{mesh, pointwise_penetration, winding_number, Pose, TriMesh, Vec3, WindingOptions};
+use tocsin::{
+    mesh, pointwise_penetration, time_of_contact, winding_number, ContactOptions, Motion, Pose,
+    TriMesh, Vec3, WindingOptions,
+};
 
 const EXACT: WindingOptions = WindingOptions {
     beta: f64::INFINITY,
@@ -28,7 +31,7 @@ fn dense(a: &TriMesh, pa: &Pose, b: &TriMesh, pb: &Pose, k: usize) -> f64 {
     let w = winding_number(b, pb, &pts, &EXACT).unwrap();
     pts.iter()
         .zip(&w)
-        .filter(|(_, w)| **w > 0.5)
+        .filter(|(_, w)| w.abs() > 0.5)
         .map(|(p, _)| brute_point_distance(*p, b, pb))
         .fold(0.0, f64::max)
 }
@@ -113,4 +116,57 @@ fn knot_against_a_moved_copy_within_the_bound_of_dense_sampling() {
     let po = if r.from_first { moved } else { Pose::IDENTITY };
     assert!(winding_number(&knot, &po, &[r.point1], &EXACT).unwrap()[0].abs() > 0.5);
     assert!((brute_point_distance(r.point1, &knot, &po) - r.depth).abs() < 1e-9);
+}
+
+#[test]
+fn shallow_penetrations_of_a_knot_within_the_bound_of_dense_sampling() {
+    // A turned copy touching the knot from a random direction, pushed in by 2% or 8% of the
+    // radius: the inside parts are small patches, and most of either surface lies outside the
+    // other, next to parts inside (the classification of pieces off the other surface, shared
+    // between neighbours, is what this exercises).
+    let knot = mesh::torus_knot(40, 5).unwrap();
+    let radius = knot.bounding_radius();
+    let e = 1e-3 * radius;
+    let mut rng = common::rng(2024);
+    let mut deep = 0;
+    for case in 0..6 {
+        let u = common::random_unit(&mut rng);
+        let rot = common::random_rotation(&mut rng);
+        let far = 4.0 * radius + 1.0;
+        let motion = Motion::translation(
+            Pose::new(rot, u * far).unwrap(),
+            Pose::new(rot, Vec3::ZERO).unwrap(),
+        )
+        .unwrap();
+        let still = Motion::stationary(Pose::IDENTITY);
+        let contact = time_of_contact(&knot, &still, &knot, &motion, &ContactOptions::default())
+            .unwrap()
+            .unwrap();
+        let push = if case % 2 == 0 { 0.02 } else { 0.08 } * radius;
+        let pose = Pose::new(rot, u * (far * (1.0 - contact.time) - push)).unwrap();
+        let r = pointwise_penetration(&knot, &Pose::IDENTITY, &knot, &pose, e).unwrap();
+        let sampled = dense(&knot, &Pose::IDENTITY, &knot, &pose, 8).max(dense(
+            &knot,
+            &pose,
+            &knot,
+            &Pose::IDENTITY,
+            8,
+        ));
+        assert!(r.upper_bound - r.depth <= e * (1.0 + 1e-9));
+        assert!(
+            sampled <= r.upper_bound + 1e-12,
+            "case {case}: sampled {sampled} > {}",
+            r.upper_bound
+        );
+        assert!(
+            r.depth >= sampled - e,
+            "case {case}: {} below sampling {sampled}",
+            r.depth
+        );
+        if sampled > 0.25 * push {
+            deep += 1;
+        }
+    }
+    // The cases penetrate: the sampled depth is a fair part of the push in most of them.
+    assert!(deep >= 4, "only {deep} cases penetrate");
 }
