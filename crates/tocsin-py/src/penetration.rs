@@ -307,7 +307,8 @@ impl PointwiseResult {
 /// surface that lies inside the other body (winding number magnitude above 1/2) to the other surface,
 /// within max_error (default 1e-4 of the smaller bounding radius), with the two points.
 /// Depth 0 when neither surface enters the other. Exact inside/outside for closed meshes; on
-/// soups with holes a piece not crossing the other surface is classified by its centroid.
+/// soups with holes a piece not crossing the other surface is classified at a point joined to it
+/// without crossing that surface (its centroid or a neighbour's).
 #[pyfunction]
 #[pyo3(signature = (mesh1, pose1, mesh2, pose2, max_error=None))]
 pub(crate) fn pointwise_penetration(

@@ -7,18 +7,33 @@
 //! The search is the Hausdorff distance's (`hausdorff.rs`) restricted to inside points: samples
 //! raise the lower bound only where they are inside the other body, and a piece (a node of the
 //! hierarchy, whose bounding ball is tested, then a triangle split in four) that does not meet
-//! the other surface (its distance to it is positive) lies on one side of it, decided at its
-//! centre: outside pieces are dropped (a whole subtree at once), inside ones keep their upper
-//! bounds. For closed meshes that is exact; for soups with
-//! holes, where the winding number varies without crossing the surface, a piece is classified by
-//! its centroid (said on [`pointwise_penetration`]).
+//! the other surface lies on one side of it: outside pieces are dropped (a whole subtree at
+//! once), inside ones keep their upper bounds.
+//!
+//! The side is constant on a connected set that does not meet the surface (for a closed mesh
+//! the winding number only changes across it), so one winding number serves several pieces:
+//! - a node's ball that misses the surface, and a piece's centroid at distance `d` from it,
+//!   carry a free ball (a ball that misses the surface) with the side of its centre; a search
+//!   remembers the last few, and a new free ball that overlaps one takes its side (the union of
+//!   two overlapping free balls is connected and misses the surface);
+//! - the four parts of a split triangle pairwise share a corner, so those of them that miss the
+//!   surface share one side.
+//!
+//! On the benchmark's shallow penetrations this took 28-39% of the instructions off, then
+//! the node walk's test became a bounded ball query (stops at the first triangle within the
+//! ball) and a piece's intersection test and centroid distance one traversal: 25-37% more
+//! (docs/BENCHMARKS.md, eighteenth session). For closed meshes the classification is exact;
+//! for soups with holes, where the winding number varies without crossing the surface, a piece
+//! is classified by the winding number at a point connected to it without crossing the
+//! surface (its centroid, a sibling's, or the centre of an overlapping free ball; said on
+//! [`pointwise_penetration`]).
 
 use std::collections::BinaryHeap;
 
 use crate::error::OptionsError;
 use crate::math::{Pose, Vec3};
 use crate::query::penetration::surface::{
-    corner_bound, point_to_mesh, split4, triangle_meets_mesh, Ranked,
+    ball_meets_mesh, corner_bound, split4, triangle_probe, Ranked,
 };
 use crate::query::penetration::winding::inside;
 use crate::TriMesh;
@@ -42,6 +57,9 @@ pub struct PointwisePenetration {
 /// bound tried and whether it is known to be inside B without meeting its surface.
 type Piece = Ranked<([Vec3; 3], [u32; 2], bool)>;
 
+/// How many classified free balls a search remembers (the most recent).
+const KNOWN: usize = 8;
+
 /// One direction: the parts of A inside B, measured against B's surface (all in B's frame).
 struct Inside<'a> {
     b_mesh: &'a TriMesh,
@@ -50,45 +68,70 @@ struct Inside<'a> {
     dropped: f64,
     /// The last closest triangle of B (neighbouring queries start from it).
     warm: u32,
+    /// Recently classified free balls: centre, radius (no point of B's surface nearer to the
+    /// centre), whether the centre is inside B. Unset entries have a NaN centre.
+    known: [(Vec3, f64, bool); KNOWN],
+    next: usize,
 }
 
 impl Inside<'_> {
-    fn inside(&self, p: Vec3) -> bool {
-        inside(self.b_mesh, p)
-    }
-
-    /// Samples `p` (a point of A): raises the lower bound if it is inside B. Returns the
-    /// distance to B and the leaf position of B's closest triangle.
-    fn sample(&mut self, p: Vec3) -> (f64, u32) {
-        let (d, q, leaf) = point_to_mesh(self.b_mesh.bvh(), p, self.warm);
-        self.warm = leaf;
-        if d > self.lower && self.inside(p) {
-            self.lower = d;
-            self.witness = (p, q);
+    /// Whether `c` is inside B, where the open ball of radius `free` about `c` does not meet
+    /// B's surface. The side is constant on a connected set that does not meet the surface
+    /// (module docs), so a remembered free ball that overlaps this one answers for it; else the
+    /// winding number decides and the ball is remembered.
+    fn side(&mut self, c: Vec3, free: f64) -> bool {
+        for &(k, r, s) in &self.known {
+            let reach = r + free;
+            if (k - c).length_squared() < reach * reach {
+                return s;
+            }
         }
-        (d, leaf)
+        let s = inside(self.b_mesh, c);
+        self.known[self.next] = (c, free, s);
+        self.next = (self.next + 1) % KNOWN;
+        s
     }
 
     /// The piece's upper bound, or `None` when it lies outside B (it does not meet B's surface
-    /// and its centroid is outside). One exact point distance, at the centroid; the convex-corner
+    /// and its side is outside). One exact point distance, at the centroid; the convex-corner
     /// bound tries B's triangles nearest the piece and its centroid and the two its parent
     /// tried (`tried`), which the piece passes on. `clear`: the piece is known to lie inside B
     /// without meeting its surface (a part of such a piece, or of such a node), so neither is
-    /// tested again.
-    fn piece(&mut self, t: [Vec3; 3], tried: [u32; 2], clear: bool) -> Option<Piece> {
+    /// tested again. `siblings`: the side of the pieces split from the same parent that do not
+    /// meet B's surface, once one of them is classified (the four parts of a split pairwise
+    /// share a corner, so any two of them that miss the surface form a connected set missing it).
+    fn piece(
+        &mut self,
+        t: [Vec3; 3],
+        tried: [u32; 2],
+        clear: bool,
+        siblings: &mut Option<bool>,
+    ) -> Option<Piece> {
         let c = (t[0] + t[1] + t[2]) / 3.0;
-        let meets = if clear {
-            None
-        } else {
-            let meets = triangle_meets_mesh(self.b_mesh.bvh(), &t, self.warm);
-            if meets.is_none() && !self.inside(c) {
+        let r = t.iter().fold(0.0_f64, |m, p| m.max((*p - c).length()));
+        let (dc, q, leaf, meets) = triangle_probe(self.b_mesh.bvh(), &t, c, r, !clear, self.warm);
+        self.warm = leaf;
+        if !clear && meets.is_none() && *siblings == Some(false) {
+            return None;
+        }
+        // The centroid's side: known for clear pieces and for pieces off the surface whose
+        // sibling was classified; else decided here (pieces off the surface) or only when the
+        // sample could raise the lower bound (pieces that meet the surface).
+        if !clear && meets.is_none() {
+            let s = match *siblings {
+                Some(s) => s,
+                None => self.side(c, dc),
+            };
+            *siblings = Some(s);
+            if !s {
                 return None;
             }
-            meets
-        };
-        let (dc, leaf) = self.sample(c);
+        }
+        if dc > self.lower && (meets.is_none() || self.side(c, dc)) {
+            self.lower = dc;
+            self.witness = (c, q);
+        }
         let near = meets.unwrap_or(leaf);
-        let r = t.iter().fold(0.0_f64, |m, p| m.max((*p - c).length()));
         // As in the Hausdorff search: the convex-corner bound.
         let candidates = [near, leaf, tried[0], tried[1]];
         let upper = (dc + r).min(corner_bound(self.b_mesh.bvh(), &t, &candidates));
@@ -111,18 +154,19 @@ impl Inside<'_> {
             let node = &nodes[i as usize];
             if !clear {
                 let c = a_to_b.transform_point(node.rss.center);
-                let (d, _, near) = point_to_mesh(self.b_mesh.bvh(), c, self.warm);
-                (self.warm, leaf) = (near, near);
-                if d > node.rss.bounding_radius() {
-                    if !self.inside(c) {
-                        continue;
+                match ball_meets_mesh(self.b_mesh.bvh(), c, node.rss.bounding_radius(), self.warm) {
+                    Err(near) => (self.warm, leaf) = (near, near),
+                    Ok(free) => {
+                        if !self.side(c, free) {
+                            continue;
+                        }
+                        clear = true;
                     }
-                    clear = true;
                 }
             }
             if node.is_leaf() {
                 let t = tris[node.leaf_position() as usize].map(|p| a_to_b.transform_point(p));
-                if let Some(p) = self.piece(t, [leaf, self.warm], clear) {
+                if let Some(p) = self.piece(t, [leaf, self.warm], clear, &mut None) {
                     heap.push(p);
                 }
                 continue;
@@ -136,8 +180,9 @@ impl Inside<'_> {
                 return piece.upper.max(self.lower).max(self.dropped);
             }
             let (t, tried, clear) = piece.item;
+            let mut siblings = None;
             for sub in split4(t) {
-                if let Some(p) = self.piece(sub, tried, clear) {
+                if let Some(p) = self.piece(sub, tried, clear, &mut siblings) {
                     if p.upper > self.lower + max_error {
                         heap.push(p);
                     } else {
@@ -153,7 +198,8 @@ impl Inside<'_> {
 /// The pointwise penetration depth of two placed meshes, within `max_error` (module docs):
 /// the largest distance from a point of one surface inside the other body to the other
 /// surface. Inside is the winding number's (magnitude above 1/2); a piece of a surface that
-/// does not meet the other surface is classified by its centroid, exact for closed meshes.
+/// does not meet the other surface is classified at a point connected to it without crossing
+/// the other surface (its centroid or a neighbour's, module docs), exact for closed meshes.
 ///
 /// # Errors
 /// [`OptionsError`] when `max_error` is not positive and finite.
@@ -178,6 +224,8 @@ pub fn pointwise_penetration(
             witness: (Vec3::ZERO, Vec3::ZERO),
             dropped: 0.0,
             warm: 0,
+            known: [(Vec3::NAN, 0.0, false); KNOWN],
+            next: 0,
         };
         let upper = s.run(a, &pb.inv_mul(pa), max_error);
         (

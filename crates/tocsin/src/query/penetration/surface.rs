@@ -95,37 +95,114 @@ pub(crate) fn point_to_mesh(bvh: &Bvh, p: Vec3, warm: u32) -> (f64, Vec3, u32) {
     (best2.sqrt(), closest, leaf)
 }
 
-/// Whether the triangle `t` touches or crosses the mesh of `bvh` (both in that mesh's frame),
-/// with the leaf position of a triangle it meets: the exact triangle test of `collide` at the
-/// leaves, nodes pruned when their volume is farther than the triangle's bounding ball. `warm`
-/// (a leaf position) is tried first.
-pub(crate) fn triangle_meets_mesh(bvh: &Bvh, t: &[Vec3; 3], warm: u32) -> Option<u32> {
+/// Whether the mesh of `bvh` comes within `r` of `c` (both in that mesh's frame): `Err` with
+/// the leaf position of a triangle that does, else `Ok` with a lower bound on the distance
+/// from `c` to the mesh, at least `r` (the smallest bound of a pruned volume or distance of a
+/// tested triangle). Nodes farther than `r` are pruned, and the search stops at the first
+/// triangle within `r`, where an exact distance would go on; `warm` (a leaf position) is
+/// tried first.
+pub(crate) fn ball_meets_mesh(bvh: &Bvh, c: Vec3, r: f64, warm: u32) -> Result<f64, u32> {
     let nodes = bvh.nodes();
     let tris = bvh.leaf_triangles();
     let w = (warm as usize).min(tris.len() - 1);
-    if intersect_triangle_triangle(t, &tris[w]) {
-        return Some(w as u32);
+    let r2 = r * r;
+    let d2 = (closest_on_triangle(c, &tris[w]) - c).length_squared();
+    if d2 <= r2 {
+        return Err(w as u32);
     }
-    let c = (t[0] + t[1] + t[2]) / 3.0;
-    let r = t.iter().fold(0.0_f64, |m, p| m.max((*p - c).length()));
+    let mut free2 = d2;
     let mut stack = Vec::with_capacity(64);
     stack.push(0u32);
     while let Some(i) = stack.pop() {
         let node = &nodes[i as usize];
-        if rss_point_bound(&node.rss, c) > r {
+        let b = rss_point_bound(&node.rss, c);
+        let b2 = b * b;
+        if b2 > r2 {
+            free2 = free2.min(b2);
             continue;
         }
         if node.is_leaf() {
-            if intersect_triangle_triangle(t, &tris[node.leaf_position() as usize]) {
-                return Some(node.leaf_position());
+            let d2 =
+                (closest_on_triangle(c, &tris[node.leaf_position() as usize]) - c).length_squared();
+            if d2 <= r2 {
+                return Err(node.leaf_position());
             }
+            free2 = free2.min(d2);
             continue;
         }
         let (l, rr) = node.children(i);
         stack.push(rr);
         stack.push(l);
     }
-    None
+    Ok(free2.sqrt())
+}
+
+/// A triangle's probe of the mesh of `bvh` (both in that mesh's frame): the exact distance
+/// from its centroid `c` to the mesh, the closest point and its triangle's leaf position (as
+/// [`point_to_mesh`]), and with `test_meets`, whether the triangle touches or crosses the
+/// mesh, with the leaf position of a triangle it meets (the exact triangle test of `collide`; `r` bounds
+/// the triangle's corners about `c`). One traversal for both: a node is visited while it may
+/// hold a nearer point or, until a meeting triangle is found, lies within `r` of `c`. `warm`
+/// (a leaf position) is tried first.
+pub(crate) fn triangle_probe(
+    bvh: &Bvh,
+    t: &[Vec3; 3],
+    c: Vec3,
+    r: f64,
+    test_meets: bool,
+    warm: u32,
+) -> (f64, Vec3, u32, Option<u32>) {
+    let nodes = bvh.nodes();
+    let tris = bvh.leaf_triangles();
+    let w = (warm as usize).min(tris.len() - 1);
+    let mut meets = None;
+    let mut open = test_meets;
+    if open && intersect_triangle_triangle(t, &tris[w]) {
+        (meets, open) = (Some(w as u32), false);
+    }
+    let first = closest_on_triangle(c, &tris[w]);
+    let (mut best2, mut closest, mut leaf) = ((first - c).length_squared(), first, w as u32);
+    let r2 = r * r;
+    let mut stack = Vec::with_capacity(64);
+    stack.push((0u32, {
+        let b = rss_point_bound(&nodes[0].rss, c);
+        b * b
+    }));
+    while let Some((i, lb2)) = stack.pop() {
+        let wanted = lb2 < best2 || (open && lb2 <= r2);
+        if !wanted {
+            continue;
+        }
+        let node = &nodes[i as usize];
+        if node.is_leaf() {
+            let tri = &tris[node.leaf_position() as usize];
+            if lb2 < best2 {
+                let q = closest_on_triangle(c, tri);
+                let d2 = (q - c).length_squared();
+                if d2 < best2 {
+                    (best2, closest, leaf) = (d2, q, node.leaf_position());
+                }
+            }
+            if open && lb2 <= r2 && intersect_triangle_triangle(t, tri) {
+                (meets, open) = (Some(node.leaf_position()), false);
+            }
+            continue;
+        }
+        let (l, rr) = node.children(i);
+        let bound2 = |j: u32| {
+            let b = rss_point_bound(&nodes[j as usize].rss, c);
+            b * b
+        };
+        let (bl, br) = (bound2(l), bound2(rr));
+        if bl <= br {
+            stack.push((rr, br));
+            stack.push((l, bl));
+        } else {
+            stack.push((l, bl));
+            stack.push((rr, br));
+        }
+    }
+    (best2.sqrt(), closest, leaf, meets)
 }
 
 /// An upper bound on the distance to the mesh over the convex hull of `corners`: the distance
