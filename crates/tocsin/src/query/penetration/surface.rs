@@ -142,26 +142,27 @@ pub(crate) fn ball_meets_mesh(bvh: &Bvh, c: Vec3, r: f64, warm: u32) -> Result<f
 /// [`point_to_mesh`]), and with `test_meets`, whether the triangle touches or crosses the
 /// mesh, with the leaf position of a triangle it meets (the exact triangle test of `collide`; `r` bounds
 /// the triangle's corners about `c`). One traversal for both: a node is visited while it may
-/// hold a nearer point or, until a meeting triangle is found, lies within `r` of `c`. `warm`
-/// (a leaf position) is tried first.
+/// hold a nearer point or, until a meeting triangle is found, lies within `r` of `c`. The
+/// triangles at the leaf positions `warm` are tried first: the first for the distance, the
+/// second for the intersection.
 pub(crate) fn triangle_probe(
     bvh: &Bvh,
     t: &[Vec3; 3],
     c: Vec3,
     r: f64,
     test_meets: bool,
-    warm: u32,
+    warm: [u32; 2],
 ) -> (f64, Vec3, u32, Option<u32>) {
     let nodes = bvh.nodes();
     let tris = bvh.leaf_triangles();
-    let w = (warm as usize).min(tris.len() - 1);
-    let mut meets = None;
-    let mut open = test_meets;
-    if open && intersect_triangle_triangle(t, &tris[w]) {
-        (meets, open) = (Some(w as u32), false);
-    }
+    let [w, wm] = warm.map(|w| (w as usize).min(tris.len() - 1));
     let first = closest_on_triangle(c, &tris[w]);
     let (mut best2, mut closest, mut leaf) = ((first - c).length_squared(), first, w as u32);
+    let mut meets = None;
+    let mut open = test_meets;
+    if open && intersect_triangle_triangle(t, &tris[wm]) {
+        (meets, open) = (Some(wm as u32), false);
+    }
     let r2 = r * r;
     let mut stack = Vec::with_capacity(64);
     stack.push((0u32, {
@@ -212,7 +213,10 @@ pub(crate) fn corner_bound(bvh: &Bvh, corners: &[Vec3], leaves: &[u32]) -> f64 {
     let tris = bvh.leaf_triangles();
     leaves
         .iter()
-        .map(|&j| {
+        .enumerate()
+        // A triangle listed twice is tried once.
+        .filter(|&(k, j)| !leaves[..k].contains(j))
+        .map(|(_, &j)| {
             corners
                 .iter()
                 .map(|p| (closest_on_triangle(*p, &tris[j as usize]) - *p).length_squared())
