@@ -33,7 +33,7 @@ use std::collections::BinaryHeap;
 use crate::bvh::Bvh;
 use crate::error::OptionsError;
 use crate::math::{Pose, Vec3};
-use crate::query::penetration::surface::{corner_bound, point_to_mesh, split4, Ranked};
+use crate::query::penetration::surface::{corner_bound, node_probe, point_to_mesh, split4, Ranked};
 use crate::TriMesh;
 
 /// The Hausdorff distance found and where.
@@ -98,8 +98,8 @@ impl OneSided<'_> {
         (d, leaf)
     }
 
-    /// A node's piece: one exact distance, at the centroid of its middle triangle, and the
-    /// bounds it gives; `tried` are the parent's two triangles of B.
+    /// A node's piece ([`node_probe`]: one exact distance, at the centroid of its middle
+    /// triangle, and the bounds it gives); `tried` are the parent's two triangles of B.
     fn node_piece(&mut self, i: u32, tried: [u32; 2]) -> Piece {
         let node = &self.a.nodes()[i as usize];
         if node.is_leaf() {
@@ -107,37 +107,14 @@ impl OneSided<'_> {
                 .map(|p| self.a_to_b.transform_point(p));
             return self.triangle_piece(t, tried);
         }
-        let rss = &node.rss;
-        // The centroid of the triangle in the middle of the node's leaf range: the leaves are
-        // in split order, so it lies where the node's two halves meet, near its centre.
-        let range = node.leaf_range();
-        let middle = self.a.leaf_triangles()[range.start + range.len() / 2];
-        let p = self
-            .a_to_b
-            .transform_point((middle[0] + middle[1] + middle[2]) / 3.0);
-        let (d, leaf) = self.sample(p, tried[0]);
-        let centre = self.a_to_b.transform_point(rss.center);
-        // Every point of the volume is within `|p - centre| + r` of that point (the distance
-        // to B is 1-Lipschitz). And the volume is its rectangle grown by its radius,
-        // while the distance to one triangle of B is convex and 1-Lipschitz: over the volume
-        // it is at most its largest value at the rectangle's corners plus the radius.
-        let (e0, e1) = (
-            rss.axes.x_axis * rss.half_lengths[0],
-            rss.axes.y_axis * rss.half_lengths[1],
-        );
-        let corners = [
-            rss.center + e0 + e1,
-            rss.center + e0 - e1,
-            rss.center - e0 + e1,
-            rss.center - e0 - e1,
-        ]
-        .map(|p| self.a_to_b.transform_point(p));
-        let candidates = [leaf, tried[0], tried[1]];
-        let upper = (d + (p - centre).length() + rss.bounding_radius())
-            .min(corner_bound(self.b, &corners, &candidates) + rss.radius);
+        let probe = node_probe(self.a, &self.a_to_b, self.b, i, tried);
+        if probe.distance > self.lower {
+            self.lower = probe.distance;
+            self.witness = (probe.point, probe.closest);
+        }
         Piece {
-            upper,
-            item: (PieceKind::Node(i), [leaf, tried[0]]),
+            upper: probe.upper,
+            item: (PieceKind::Node(i), [probe.leaf, tried[0]]),
         }
     }
 

@@ -34,7 +34,7 @@ use std::collections::BinaryHeap;
 use crate::error::OptionsError;
 use crate::math::{Pose, Vec3};
 use crate::query::penetration::surface::{
-    ball_meets_mesh, corner_bound, split4, triangle_probe, Ranked,
+    ball_meets_mesh, corner_bound, node_probe, split4, triangle_probe, Ranked,
 };
 use crate::query::penetration::winding::inside;
 use crate::TriMesh;
@@ -54,9 +54,16 @@ pub struct PointwisePenetration {
     pub from_first: bool,
 }
 
-/// A (sub)triangle of A waiting, ranked by its upper bound, with the two triangles of B its
-/// bound tried and whether it is known to be inside B without meeting its surface.
-type Piece = Ranked<([Vec3; 3], [u32; 2], bool)>;
+/// A piece of A waiting, ranked by its upper bound, with the two triangles of B its bound
+/// tried.
+type Piece = Ranked<(PieceKind, [u32; 2])>;
+
+enum PieceKind {
+    /// A node of A's hierarchy known to lie inside B without meeting its surface.
+    Inside(u32),
+    /// A (sub)triangle, and whether it is known to lie inside B without meeting its surface.
+    Triangle([Vec3; 3], bool),
+}
 
 /// How many classified free balls a search remembers (the most recent).
 const KNOWN: usize = 32;
@@ -140,33 +147,64 @@ impl Inside<'_> {
         let upper = (dc + r).min(corner_bound(self.b_mesh.bvh(), &t, &candidates));
         Some(Piece {
             upper: upper.max(dc),
-            item: (t, [leaf, near], meets.is_none()),
+            item: (PieceKind::Triangle(t, meets.is_none()), [leaf, near]),
         })
+    }
+
+    /// A node of A known to lie inside B without meeting its surface, whole: the Hausdorff
+    /// search's node bound ([`node_probe`]), its sample a point inside B. Its triangles are
+    /// only visited when that bound is not within the error of the lower bound.
+    fn inside_node(&mut self, a: &TriMesh, a_to_b: &Pose, i: u32, tried: [u32; 2]) -> Piece {
+        let probe = node_probe(a.bvh(), a_to_b, self.b_mesh.bvh(), i, tried);
+        if probe.distance > self.lower {
+            self.lower = probe.distance;
+            self.witness = (probe.point, probe.closest);
+        }
+        Piece {
+            upper: probe.upper.max(probe.distance),
+            item: (PieceKind::Inside(i), [probe.leaf, tried[0]]),
+        }
+    }
+
+    /// Queues a piece worth splitting, or records the bound of one that is not.
+    fn keep(&mut self, heap: &mut BinaryHeap<Piece>, p: Piece, max_error: f64) {
+        if p.upper > self.lower + max_error {
+            heap.push(p);
+        } else {
+            self.dropped = self.dropped.max(p.upper);
+        }
     }
 
     fn run(&mut self, a: &TriMesh, a_to_b: &Pose, max_error: f64) -> f64 {
         let mut heap = BinaryHeap::new();
         // A's hierarchy first: a node whose bounding ball does not meet B's surface lies on
         // one side of it (the ball is connected), decided at its centre; outside nodes are
-        // dropped whole, the triangles of inside ones are pieces known to be clear of B's
-        // surface (no further test), those of the others become pieces tested on their own.
+        // dropped whole, inside ones become pieces known to be clear of B's surface (whole
+        // nodes, bounded as the Hausdorff search bounds them, split only when that bound is not
+        // within the error), and the triangles of the others pieces tested on their own.
         let (nodes, tris) = (a.bvh().nodes(), a.bvh().leaf_triangles());
-        let mut stack = vec![(0u32, false)];
+        let mut stack = vec![0u32];
         let mut leaf = 0;
-        while let Some((i, mut clear)) = stack.pop() {
+        while let Some(i) = stack.pop() {
             let node = &nodes[i as usize];
-            if !clear {
-                let c = a_to_b.transform_point(node.rss.center);
-                match ball_meets_mesh(self.b_mesh.bvh(), c, node.rss.bounding_radius(), self.warm) {
-                    Err(near) => (self.warm, leaf) = (near, near),
-                    Ok(free) => {
-                        if !self.side(c, free) {
-                            continue;
-                        }
-                        clear = true;
-                    }
+            let c = a_to_b.transform_point(node.rss.center);
+            let clear = match ball_meets_mesh(
+                self.b_mesh.bvh(),
+                c,
+                node.rss.bounding_radius(),
+                self.warm,
+            ) {
+                Err(near) => {
+                    (self.warm, leaf) = (near, near);
+                    false
                 }
-            }
+                Ok(free) => {
+                    if !self.side(c, free) {
+                        continue;
+                    }
+                    true
+                }
+            };
             if node.is_leaf() {
                 let t = tris[node.leaf_position() as usize].map(|p| a_to_b.transform_point(p));
                 if let Some(p) = self.piece(t, [leaf, leaf], clear, &mut None) {
@@ -174,22 +212,42 @@ impl Inside<'_> {
                 }
                 continue;
             }
+            if clear {
+                let p = self.inside_node(a, a_to_b, i, [leaf, leaf]);
+                heap.push(p);
+                continue;
+            }
             let (l, r) = node.children(i);
-            stack.push((l, clear));
-            stack.push((r, clear));
+            stack.push(l);
+            stack.push(r);
         }
         while let Some(piece) = heap.pop() {
             if piece.upper <= self.lower + max_error {
                 return piece.upper.max(self.lower).max(self.dropped);
             }
-            let (t, tried, clear) = piece.item;
-            let mut siblings = None;
-            for sub in split4(t) {
-                if let Some(p) = self.piece(sub, tried, clear, &mut siblings) {
-                    if p.upper > self.lower + max_error {
-                        heap.push(p);
-                    } else {
-                        self.dropped = self.dropped.max(p.upper);
+            match piece.item {
+                (PieceKind::Inside(i), tried) => {
+                    let (l, r) = nodes[i as usize].children(i);
+                    for c in [l, r] {
+                        let node = &nodes[c as usize];
+                        let p = if node.is_leaf() {
+                            let t = tris[node.leaf_position() as usize]
+                                .map(|p| a_to_b.transform_point(p));
+                            self.piece(t, tried, true, &mut None)
+                        } else {
+                            Some(self.inside_node(a, a_to_b, c, tried))
+                        };
+                        if let Some(p) = p {
+                            self.keep(&mut heap, p, max_error);
+                        }
+                    }
+                }
+                (PieceKind::Triangle(t, clear), tried) => {
+                    let mut siblings = None;
+                    for sub in split4(t) {
+                        if let Some(p) = self.piece(sub, tried, clear, &mut siblings) {
+                            self.keep(&mut heap, p, max_error);
+                        }
                     }
                 }
             }

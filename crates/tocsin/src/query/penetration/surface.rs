@@ -4,7 +4,7 @@
 //! bound.
 
 use crate::bvh::{Bvh, Rss};
-use crate::math::Vec3;
+use crate::math::{Pose, Vec3};
 use crate::query::distance::{
     intersect_triangle_triangle, project_inside_triangle, triangle_normal,
 };
@@ -224,6 +224,58 @@ pub(crate) fn corner_bound(bvh: &Bvh, corners: &[Vec3], leaves: &[u32]) -> f64 {
                 .sqrt()
         })
         .fold(f64::INFINITY, f64::min)
+}
+
+/// A node of A's hierarchy probed from B (B's frame, A's points mapped by `a_to_b`): one exact
+/// distance, at the centroid of the triangle in the middle of the node's leaf range (the leaves
+/// are in split order, so it lies where the node's two halves meet, near its centre), and the
+/// upper bound on the distance to B over the node's volume it gives.
+pub(crate) struct NodeProbe {
+    /// Upper bound on `d(a, B)` over the node's volume.
+    pub upper: f64,
+    /// The sampled point (a point of A's surface) and its exact distance to B.
+    pub point: Vec3,
+    pub distance: f64,
+    /// Its closest point on B and that triangle's leaf position.
+    pub closest: Vec3,
+    pub leaf: u32,
+}
+
+/// Probes node `i` of `a` from `b` (see [`NodeProbe`]); `tried`: the parent's two triangles of
+/// B (the first starts the exact distance). Every point of the volume is within
+/// `|p - centre| + r` of the sampled point `p` (the distance to B is 1-Lipschitz); and the
+/// volume is its rectangle grown by its radius, while the distance to one triangle of B is
+/// convex and 1-Lipschitz: over the volume it is at most its largest value at the rectangle's
+/// corners plus the radius.
+pub(crate) fn node_probe(a: &Bvh, a_to_b: &Pose, b: &Bvh, i: u32, tried: [u32; 2]) -> NodeProbe {
+    let node = &a.nodes()[i as usize];
+    let rss = &node.rss;
+    let range = node.leaf_range();
+    let middle = a.leaf_triangles()[range.start + range.len() / 2];
+    let p = a_to_b.transform_point((middle[0] + middle[1] + middle[2]) / 3.0);
+    let (d, q, leaf) = point_to_mesh(b, p, tried[0]);
+    let centre = a_to_b.transform_point(rss.center);
+    let (e0, e1) = (
+        rss.axes.x_axis * rss.half_lengths[0],
+        rss.axes.y_axis * rss.half_lengths[1],
+    );
+    let corners = [
+        rss.center + e0 + e1,
+        rss.center + e0 - e1,
+        rss.center - e0 + e1,
+        rss.center - e0 - e1,
+    ]
+    .map(|p| a_to_b.transform_point(p));
+    let candidates = [leaf, tried[0], tried[1]];
+    let upper = (d + (p - centre).length() + rss.bounding_radius())
+        .min(corner_bound(b, &corners, &candidates) + rss.radius);
+    NodeProbe {
+        upper,
+        point: p,
+        distance: d,
+        closest: q,
+        leaf,
+    }
 }
 
 /// The four triangles of the midpoint split.
