@@ -10,7 +10,14 @@ Hausdorff: symmetric, a mesh against a copy moved by (0.3, 0.1, 0.05), error bou
 whole surface). Pointwise depth (error 1e-4 of the radius): two overlapping cubes, and the
 knots against copies overlapping everywhere or in part.
 
-    python bench/surface_queries.py [--repeats 3] [--threads 1] [--out bench/out/surface_queries.md]
+`--grid`: pointwise depth (error 1e-4 of the radius) at the poses of
+`bench/penetration_grid.py` instead: per model and penetration f (1%, 5%, 20% of the bounding
+radius R), 8 seeded queries, each a turned copy touching the model from a random direction u
+(tocsin's exact continuous query from far out) pushed back by f R along -u (shallow contacts,
+as in a simulation's penetrations); median and 90th percentile over the queries of each
+query's median time.
+
+    python bench/surface_queries.py [--repeats 3] [--threads 1] [--grid] [--out bench/out/surface_queries.md]
 """
 
 import argparse
@@ -39,14 +46,56 @@ def moved(t):
     return pose(np.eye(3), t)
 
 
+def grid(args):
+    from penetration_grid import penetrates, rotation, unit
+
+    meshes = models(["knot2.8k", "knot11k", "knot34k", "bunny"])
+    import pybullet_data
+
+    meshes["duck"] = tocsin.Mesh.load(os.path.join(pybullet_data.getDataPath(), "duck.obj"))
+    lines = [machine_line() + f"; {args.threads} thread(s); per query the median of {args.repeats} calls after a warm-up, times in ms.", ""]
+    lines += ["| model | triangles | penetration | queries | median ms | p90 ms | depth / R, median |", "|---|---:|---:|---:|---:|---:|---:|"]
+    rng = np.random.default_rng(6)
+    for name, m in meshes.items():
+        R = m.bounding_radius
+        for f in (0.01, 0.05, 0.2):
+            times, depths = [], []
+            for _ in range(8):
+                u = unit(rng)
+                p2 = np.eye(4)
+                p2[:3, :3] = rotation(rng)
+                far = 4 * R + 1.0
+                start, end = p2.copy(), p2.copy()
+                start[:3, 3] = far * u
+                c = tocsin.time_of_contact(m, tocsin.Motion.stationary(np.eye(4)), m, tocsin.Motion.translation(start, end))
+                if c is None:
+                    continue
+                p2[:3, 3] = far * u * (1 - c.time) - f * R * u
+                if not penetrates(m, p2):
+                    continue
+                run = lambda: tocsin.pointwise_penetration(m, np.eye(4), m, p2, max_error=1e-4 * R)
+                times.append(median_ms(run, args.repeats))
+                depths.append(run().depth / R)
+            if times:
+                lines.append(
+                    f"| {name} | {m.num_triangles} | {f:.0%} R | {len(times)} | {statistics.median(times):.2f} | "
+                    f"{np.percentile(times, 90):.2f} | {statistics.median(depths):.4f} |"
+                )
+                print(lines[-1], flush=True)
+    write(args.out, "\n".join(lines))
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeats", type=int, default=3)
     ap.add_argument("--threads", type=int, default=1, help="threads of tocsin's pool (the two directions of a symmetric query run in parallel)")
     ap.add_argument("--out", default=os.path.join("bench", "out", "surface_queries.md"))
+    ap.add_argument("--grid", action="store_true", help="pointwise depth at the penetration grid's poses")
     args = ap.parse_args()
     # Read when tocsin's pool starts, at the first mesh build below.
     os.environ["RAYON_NUM_THREADS"] = str(args.threads)
+    if args.grid:
+        return grid(args)
     meshes = models(["bunny", "knot2.8k", "knot34k"])
     lines = [machine_line() + f"; {args.threads} thread(s); median of {args.repeats} calls after a warm-up, times in ms.", ""]
     lines += ["| mesh | triangles | error 1e-2 R | 1e-3 R | 1e-4 R | distance |", "|---|---:|---:|---:|---:|---:|"]

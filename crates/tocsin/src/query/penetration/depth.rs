@@ -69,7 +69,7 @@
 //!    the median went from 9.5 to 7.1 ms; the depths at 1% and 5% were unchanged, at 20%
 //!    within 0.65% either way, and up to 18% shorter on knot34k.
 //! 4. **Polish.** The best translation is out-projected once more along its own line with the
-//!    tolerance `min(tolerance, 1e-3 depth)` ([`polish`]): the gap it leaves is then at most a
+//!    tolerance `min(tolerance, 1e-3 depth)` (`polish`): the gap it leaves is then at most a
 //!    thousandth of the depth, not of the radius.
 //!
 //! Every `collide` of the samples first tries an intersecting triangle pair of a nearby
