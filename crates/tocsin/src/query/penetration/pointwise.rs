@@ -367,14 +367,14 @@ pub fn pointwise_penetration(
 mod tests {
     use super::*;
     use crate::mesh;
-    use crate::query::penetration::surface::closest_on_triangle;
+    use crate::query::penetration::surface::tests::oracle_distance;
 
     /// Distance from `p` to every triangle of `b`, the smallest (brute force).
     fn brute(b: &TriMesh, p: Vec3) -> f64 {
         b.bvh()
             .leaf_triangles()
             .iter()
-            .map(|t| (closest_on_triangle(p, t) - p).length())
+            .map(|t| oracle_distance(p, t))
             .fold(f64::INFINITY, f64::min)
     }
 
