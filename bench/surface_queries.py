@@ -15,7 +15,8 @@ knots against copies overlapping everywhere or in part.
 radius R), 8 seeded queries, each a turned copy touching the model from a random direction u
 (tocsin's exact continuous query from far out) pushed back by f R along -u (shallow contacts,
 as in a simulation's penetrations); median and 90th percentile over the queries of each
-query's median time.
+query's median time. Then the symmetric Hausdorff distance of each model against 8 copies
+turned by random rotations and moved by 5% of R, at three error bounds (median over the copies).
 
     python bench/surface_queries.py [--repeats 3] [--threads 1] [--grid] [--out bench/out/surface_queries.md]
 """
@@ -82,6 +83,27 @@ def grid(args):
                     f"{np.percentile(times, 90):.2f} | {statistics.median(depths):.4f} |"
                 )
                 print(lines[-1], flush=True)
+    # Hausdorff distance, symmetric, against turned copies: the same models, each against 8
+    # copies turned by a random rotation about the origin and moved by 5% of R.
+    lines += ["", "| model | triangles | Hausdorff vs turned copies: error 1e-2 R | 1e-3 R | 1e-4 R | distance / R, median |", "|---|---:|---:|---:|---:|---:|"]
+    for name, m in meshes.items():
+        R = m.bounding_radius
+        poses = []
+        for _ in range(8):
+            p2 = np.eye(4)
+            p2[:3, :3] = rotation(rng)
+            p2[:3, 3] = 0.05 * R * unit(rng)
+            poses.append(p2)
+        cells, values = [], []
+        for rel in (1e-2, 1e-3, 1e-4):
+            times = []
+            for p2 in poses:
+                run = lambda: tocsin.hausdorff_distance(m, np.eye(4), m, p2, max_error=rel * R, symmetric=True)
+                times.append(median_ms(run, args.repeats))
+                values.append(run().distance / R)
+            cells.append(f"{statistics.median(times):.2f}")
+        lines.append(f"| {name} | {m.num_triangles} | " + " | ".join(cells) + f" | {statistics.median(values):.4f} |")
+        print(lines[-1], flush=True)
     write(args.out, "\n".join(lines))
 
 
