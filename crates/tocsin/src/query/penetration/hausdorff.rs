@@ -33,7 +33,9 @@ use std::collections::BinaryHeap;
 use crate::bvh::Bvh;
 use crate::error::OptionsError;
 use crate::math::{Pose, Vec3};
-use crate::query::penetration::surface::{corner_bound, node_probe, point_to_mesh, split4, Ranked};
+use crate::query::penetration::surface::{
+    envelope_bound, node_probe, point_to_mesh, split4, Ranked,
+};
 use crate::TriMesh;
 
 /// The Hausdorff distance found and where.
@@ -124,7 +126,7 @@ impl OneSided<'_> {
         let c = (t[0] + t[1] + t[2]) / 3.0;
         let (dc, leaf) = self.sample(c, tried[0]);
         let r = t.iter().fold(0.0_f64, |m, p| m.max((*p - c).length()));
-        let upper = (dc + r).min(corner_bound(self.b, &t, &[leaf, tried[0], tried[1]]));
+        let upper = (dc + r).min(envelope_bound(self.b, &t, &[leaf, tried[0], tried[1]]));
         Piece {
             upper: upper.max(dc),
             item: (PieceKind::Triangle(t), [leaf, tried[0]]),

@@ -40,7 +40,7 @@ use std::collections::BinaryHeap;
 use crate::error::OptionsError;
 use crate::math::{Pose, Vec3};
 use crate::query::penetration::surface::{
-    ball_meets_mesh, corner_bound, node_probe, split4, triangle_probe, Ranked,
+    ball_meets_mesh, corner_bound, envelope_bound, node_probe, split4, triangle_probe, Ranked,
 };
 use crate::query::penetration::winding::inside;
 use crate::TriMesh;
@@ -156,7 +156,7 @@ impl Inside<'_> {
         let near = meets.unwrap_or(leaf);
         // As in the Hausdorff search: the convex-corner bound.
         let candidates = [near, leaf, tried[0], tried[1]];
-        let upper = (dc + r).min(corner_bound(self.b_mesh.bvh(), &t, &candidates));
+        let upper = (dc + r).min(envelope_bound(self.b_mesh.bvh(), &t, &candidates));
         Some(Piece {
             upper: upper.max(dc),
             item: (PieceKind::Triangle(t, meets.is_none()), [leaf, near]),

@@ -273,6 +273,80 @@ pub(crate) fn corner_bound(bvh: &Bvh, corners: &[Vec3], leaves: &[u32]) -> f64 {
         .fold(f64::INFINITY, f64::min)
 }
 
+/// An upper bound on the distance to the mesh over the triangle `t`, at most [`corner_bound`]'s:
+/// with `D[k][m]` the distance from corner `m` to the candidate triangle `k` (the leaf positions
+/// `leaves`, up to four), a point `x = sum_m l_m t_m` of `t` has `d(x, mesh) <= d(x, B_k) <=
+/// sum_m l_m D[k][m]` for every `k` (each `d(., B_k)` is convex), so the bound is the largest
+/// over the barycentric simplex of the smallest of those linear functions: at a corner, where
+/// two of them cross on an edge, or where three cross inside (the lower envelope of linear
+/// functions is concave and piecewise linear, so its maximum is at such a vertex). Where the
+/// candidates are each near a different part of `t` this is tighter than the best single one.
+pub(crate) fn envelope_bound(bvh: &Bvh, t: &[Vec3; 3], leaves: &[u32]) -> f64 {
+    let tris = bvh.leaf_triangles();
+    let mut d = [[0.0_f64; 3]; 4];
+    let mut n = 0;
+    for (k, &j) in leaves.iter().enumerate() {
+        if n == 4 || leaves[..k].contains(&j) {
+            continue;
+        }
+        for m in 0..3 {
+            d[n][m] = (closest_on_triangle(t[m], &tris[j as usize]) - t[m]).length();
+        }
+        n += 1;
+    }
+    let d = &d[..n];
+    let value = |l: [f64; 3]| {
+        d.iter()
+            .map(|row| row[0] * l[0] + row[1] * l[1] + row[2] * l[2])
+            .fold(f64::INFINITY, f64::min)
+    };
+    // The single best candidate's bound (its largest corner), which the envelope never exceeds.
+    let single = d
+        .iter()
+        .map(|row| row[0].max(row[1]).max(row[2]))
+        .fold(f64::INFINITY, f64::min);
+    let mut best = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]
+        .map(value)
+        .into_iter()
+        .fold(0.0_f64, f64::max);
+    for a in 0..n {
+        for b in (a + 1)..n {
+            // On each edge (corners m, m2): where candidates a and b cross.
+            for (m, m2) in [(0, 1), (1, 2), (2, 0)] {
+                let (ga, gb) = (d[a][m] - d[a][m2], d[b][m] - d[b][m2]);
+                let den = ga - gb;
+                if den != 0.0 {
+                    let s = (d[b][m2] - d[a][m2]) / den;
+                    if s > 0.0 && s < 1.0 {
+                        let mut l = [0.0; 3];
+                        (l[m], l[m2]) = (s, 1.0 - s);
+                        best = best.max(value(l));
+                    }
+                }
+            }
+            // Inside: where a, b and a third c cross (two equations in l0, l1; l2 = 1 - l0 - l1).
+            for c in (b + 1)..n {
+                let row = |k: usize| [d[k][0] - d[k][2], d[k][1] - d[k][2], d[k][2]];
+                let (ra, rb, rc) = (row(a), row(b), row(c));
+                // (ra - rb) . (l0, l1) = rb[2] - ra[2], and the same for a, c.
+                let (p0, p1, q) = (ra[0] - rb[0], ra[1] - rb[1], rb[2] - ra[2]);
+                let (r0, r1, w) = (ra[0] - rc[0], ra[1] - rc[1], rc[2] - ra[2]);
+                let det = p0 * r1 - p1 * r0;
+                if det != 0.0 {
+                    let l0 = (q * r1 - p1 * w) / det;
+                    let l1 = (p0 * w - q * r0) / det;
+                    let l2 = 1.0 - l0 - l1;
+                    if l0 > 0.0 && l1 > 0.0 && l2 > 0.0 {
+                        best = best.max(value([l0, l1, l2]));
+                    }
+                }
+            }
+        }
+    }
+    // A relative margin for the rounding of the crossings, never above the single bound.
+    (best * (1.0 + 1e-12)).min(single)
+}
+
 /// A node of A's hierarchy probed from B (B's frame, A's points mapped by `a_to_b`): one exact
 /// distance, at the centroid of the triangle in the middle of the node's leaf range (the leaves
 /// are in split order, so it lies where the node's two halves meet, near its centre), and the
@@ -401,6 +475,56 @@ pub(crate) mod tests {
             }
         }
         best
+    }
+
+    /// The envelope bound holds over dense samples of the triangle against brute-force
+    /// distances to the mesh, never exceeds the best single candidate's bound, and is tighter
+    /// than it on a fair share of cases: random triangles near a knot, up to four candidates
+    /// among the knot's triangles nearest the triangle's corners and centroid.
+    #[test]
+    fn envelope_bound_holds_and_is_tighter() {
+        let knot = crate::mesh::torus_knot(30, 5).expect("knot");
+        let bvh = knot.bvh();
+        let tris = bvh.leaf_triangles();
+        let brute = |p: Vec3| {
+            tris.iter()
+                .map(|t| oracle_distance(p, t))
+                .fold(f64::INFINITY, f64::min)
+        };
+        let mut rng = ChaCha8Rng::seed_from_u64(9);
+        let (mut tighter, cases) = (0, 300);
+        for case in 0..cases {
+            let c = unit(&mut rng) * rng.random_range(0.0..6.0);
+            let size = rng.random_range(0.05..1.5);
+            let t = [0, 1, 2].map(|_| c + unit(&mut rng) * size);
+            let nearest = |p: Vec3| point_to_mesh(bvh, p, 0).2;
+            let mut leaves = vec![
+                nearest(t[0]),
+                nearest(t[1]),
+                nearest(t[2]),
+                nearest((t[0] + t[1] + t[2]) / 3.0),
+            ];
+            leaves.truncate(1 + case % 4);
+            let bound = envelope_bound(bvh, &t, &leaves);
+            let single = corner_bound(bvh, &t, &leaves);
+            assert!(bound <= single, "case {case}: {bound} above {single}");
+            let k = 12;
+            for u in 0..=k {
+                for v in 0..=(k - u) {
+                    let (s, r) = (u as f64 / k as f64, v as f64 / k as f64);
+                    let x = t[0] + (t[1] - t[0]) * s + (t[2] - t[0]) * r;
+                    let dx = brute(x);
+                    assert!(
+                        dx <= bound + 1e-12,
+                        "case {case}: {dx} above the bound {bound}"
+                    );
+                }
+            }
+            if bound < single * (1.0 - 1e-3) {
+                tighter += 1;
+            }
+        }
+        assert!(tighter > cases / 10, "tighter on {tighter} of {cases}");
     }
 
     /// The closest point against the oracle: random triangles and points at scales from 1e-6
