@@ -92,6 +92,8 @@ struct Inside<'a> {
     /// centre), whether the centre is inside B. Unset entries have a NaN centre.
     known: [(Vec3, f64, bool); KNOWN],
     next: usize,
+    /// The centroid distance of the last piece made (its bound may be deferred).
+    last_dc: f64,
 }
 
 impl Inside<'_> {
@@ -127,6 +129,7 @@ impl Inside<'_> {
         tried: [u32; 2],
         clear: bool,
         siblings: &mut Option<bool>,
+        defer: bool,
     ) -> Option<Piece> {
         let c = (t[0] + t[1] + t[2]) / 3.0;
         let r = t.iter().fold(0.0_f64, |m, p| m.max((*p - c).length()));
@@ -154,13 +157,61 @@ impl Inside<'_> {
             self.witness = (c, q);
         }
         let near = meets.unwrap_or(leaf);
-        // As in the Hausdorff search: the convex-corner bound.
-        let candidates = [near, leaf, tried[0], tried[1]];
-        let upper = (dc + r).min(envelope_bound(self.b_mesh.bvh(), &t, &candidates));
-        Some(Piece {
-            upper: upper.max(dc),
+        self.last_dc = dc;
+        let mut piece = Piece {
+            upper: dc + r,
             item: (PieceKind::Triangle(t, meets.is_none()), [leaf, near]),
-        })
+        };
+        if !defer {
+            self.bound(&mut piece, dc, &[tried[0], tried[1]]);
+        }
+        Some(piece)
+    }
+
+    /// A triangle piece's convex bound (as in the Hausdorff search, the lower envelope of its
+    /// candidate triangles' corner distances): its own two triangles of B and `more`. `dc`: its
+    /// centroid's distance (the bound is never below it).
+    fn bound(&self, piece: &mut Piece, dc: f64, more: &[u32]) {
+        if let (PieceKind::Triangle(t, _), [leaf, near]) = &piece.item {
+            let mut candidates = [*near; 6];
+            candidates[1] = *leaf;
+            for (k, &m) in more.iter().take(4).enumerate() {
+                candidates[2 + k] = m;
+            }
+            let n = 2 + more.len().min(4);
+            let e = envelope_bound(self.b_mesh.bvh(), t, &candidates[..n]);
+            piece.upper = piece.upper.min(e).max(dc);
+        }
+    }
+
+    /// The four parts of a triangle piece: probed first, then bounded with each other's
+    /// nearest triangles of B among the candidates too (spread over the parent, they tighten
+    /// the envelope: 2 to 14% fewer instructions than each part's own candidates alone).
+    fn split(&mut self, t: [Vec3; 3], tried: [u32; 2], clear: bool) -> [Option<Piece>; 4] {
+        let mut siblings = None;
+        let mut parts = [None, None, None, None];
+        for (k, sub) in split4(t).into_iter().enumerate() {
+            parts[k] = self
+                .piece(sub, tried, clear, &mut siblings, true)
+                .map(|p| (p, self.last_dc));
+        }
+        let nearest: [Option<u32>; 4] =
+            std::array::from_fn(|k| parts[k].as_ref().map(|(p, _)| p.item.1[0]));
+        let mut out = [None, None, None, None];
+        for (k, part) in parts.into_iter().enumerate() {
+            let Some((mut p, dc)) = part else { continue };
+            let mut more = [tried[0]; 4];
+            let mut n = 1;
+            for (j, l) in nearest.iter().enumerate() {
+                if let (Some(l), true) = (l, j != k) {
+                    more[n] = *l;
+                    n += 1;
+                }
+            }
+            self.bound(&mut p, dc, &more[..n]);
+            out[k] = Some(p);
+        }
+        out
     }
 
     /// A node of A known to lie inside B without meeting its surface, whole: the Hausdorff
@@ -212,7 +263,7 @@ impl Inside<'_> {
         if node.is_leaf() {
             let t = a.bvh().leaf_triangles()[node.leaf_position() as usize]
                 .map(|p| a_to_b.transform_point(p));
-            return self.piece(t, tried, clear, &mut None);
+            return self.piece(t, tried, clear, &mut None, false);
         }
         if clear {
             return Some(self.inside_node(a, a_to_b, i, tried));
@@ -274,7 +325,7 @@ impl Inside<'_> {
                         let p = if node.is_leaf() {
                             let t = tris[node.leaf_position() as usize]
                                 .map(|p| a_to_b.transform_point(p));
-                            self.piece(t, tried, true, &mut None)
+                            self.piece(t, tried, true, &mut None, false)
                         } else {
                             Some(self.inside_node(a, a_to_b, c, tried))
                         };
@@ -295,11 +346,8 @@ impl Inside<'_> {
                     }
                 }
                 (PieceKind::Triangle(t, clear), tried) => {
-                    let mut siblings = None;
-                    for sub in split4(t) {
-                        if let Some(p) = self.piece(sub, tried, clear, &mut siblings) {
-                            self.keep(&mut heap, p, max_error);
-                        }
+                    for p in self.split(t, tried, clear).into_iter().flatten() {
+                        self.keep(&mut heap, p, max_error);
                     }
                 }
             }
@@ -339,6 +387,7 @@ pub fn pointwise_penetration(
             warm: 0,
             known: [(Vec3::NAN, 0.0, false); KNOWN],
             next: 0,
+            last_dc: 0.0,
         };
         let upper = s.run(a, &pb.inv_mul(pa), max_error);
         (
@@ -428,6 +477,7 @@ mod tests {
                 warm: 0,
                 known: [(Vec3::NAN, 0.0, false); KNOWN],
                 next: 0,
+                last_dc: 0.0,
             };
             let mut pieces = Vec::new();
             let mut stack = vec![0u32];
@@ -464,7 +514,7 @@ mod tests {
                             let q = if node.is_leaf() {
                                 let t = tris[node.leaf_position() as usize]
                                     .map(|q| a_to_b.transform_point(q));
-                                s.piece(t, tried, true, &mut None)
+                                s.piece(t, tried, true, &mut None, false)
                             } else {
                                 Some(s.inside_node(a, &a_to_b, c, tried))
                             };
@@ -482,10 +532,8 @@ mod tests {
                     }
                     PieceKind::Triangle(t, clear) => {
                         kinds[2] += 1;
-                        let mut siblings = None;
-                        for sub in split4(t) {
-                            let q = s.piece(sub, tried, clear, &mut siblings);
-                            pieces.extend(q.map(|q| (q, depth + 1)));
+                        for q in s.split(t, tried, clear).into_iter().flatten() {
+                            pieces.push((q, depth + 1));
                         }
                     }
                 }

@@ -283,10 +283,10 @@ pub(crate) fn corner_bound(bvh: &Bvh, corners: &[Vec3], leaves: &[u32]) -> f64 {
 /// candidates are each near a different part of `t` this is tighter than the best single one.
 pub(crate) fn envelope_bound(bvh: &Bvh, t: &[Vec3; 3], leaves: &[u32]) -> f64 {
     let tris = bvh.leaf_triangles();
-    let mut d = [[0.0_f64; 3]; 4];
+    let mut d = [[0.0_f64; 3]; 6];
     let mut n = 0;
     for (k, &j) in leaves.iter().enumerate() {
-        if n == 4 || leaves[..k].contains(&j) {
+        if n == 6 || leaves[..k].contains(&j) {
             continue;
         }
         for m in 0..3 {
