@@ -125,8 +125,22 @@ impl OneSided<'_> {
     fn triangle_piece(&mut self, t: [Vec3; 3], tried: [u32; 2]) -> Piece {
         let c = (t[0] + t[1] + t[2]) / 3.0;
         let (dc, leaf) = self.sample(c, tried[0]);
+        self.bounded(t, dc, leaf, tried, &[leaf, tried[0], tried[1]])
+    }
+
+    /// A (sub)triangle's piece from its centroid's distance `dc` and nearest triangle `leaf`:
+    /// the smaller of the Lipschitz bound and the envelope over `candidates`.
+    fn bounded(
+        &self,
+        t: [Vec3; 3],
+        dc: f64,
+        leaf: u32,
+        tried: [u32; 2],
+        candidates: &[u32],
+    ) -> Piece {
+        let c = (t[0] + t[1] + t[2]) / 3.0;
         let r = t.iter().fold(0.0_f64, |m, p| m.max((*p - c).length()));
-        let upper = (dc + r).min(envelope_bound(self.b, &t, &[leaf, tried[0], tried[1]]));
+        let upper = (dc + r).min(envelope_bound(self.b, &t, candidates));
         Piece {
             upper: upper.max(dc),
             item: (PieceKind::Triangle(t), [leaf, tried[0]]),
@@ -152,8 +166,26 @@ impl OneSided<'_> {
                     }
                 }
                 PieceKind::Triangle(t) => {
-                    for sub in split4(t) {
-                        let p = self.triangle_piece(sub, tried);
+                    // The four parts are sampled first, then bounded with each other's nearest
+                    // triangles of B among the candidates too (spread over the parent, they
+                    // tighten the envelope).
+                    let subs = split4(t);
+                    let sampled = subs.map(|sub| {
+                        let c = (sub[0] + sub[1] + sub[2]) / 3.0;
+                        self.sample(c, tried[0])
+                    });
+                    for (k, sub) in subs.into_iter().enumerate() {
+                        let (dc, leaf) = sampled[k];
+                        let mut candidates = [leaf; 6];
+                        (candidates[1], candidates[2]) = (tried[0], tried[1]);
+                        let mut n = 3;
+                        for (j, &(_, l)) in sampled.iter().enumerate() {
+                            if j != k {
+                                candidates[n] = l;
+                                n += 1;
+                            }
+                        }
+                        let p = self.bounded(sub, dc, leaf, tried, &candidates);
                         self.keep(&mut heap, p, max_error);
                     }
                 }
