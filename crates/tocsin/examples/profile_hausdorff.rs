@@ -2,7 +2,7 @@
 //! benchmark's hard case (the distance is nearly the same over most of the surface), timed a
 //! few times for profiling: `profile_hausdorff [n_u n_v] [relative error] [repeats]
 //! [pointwise]`; with `pointwise`, the pointwise penetration depth of the same pair instead
-//! (the copy overlaps the knot).
+//! (the copy overlaps the knot); `TURN=angle` turns the copy instead of only moving it.
 use tocsin::{hausdorff_distance, mesh, pointwise_penetration, Pose, Vec3};
 fn main() {
     let args: Vec<String> = std::env::args().collect();
@@ -13,7 +13,19 @@ fn main() {
     let Ok(m) = mesh::torus_knot(n_u, n_v) else {
         return;
     };
-    let moved = Pose::from_translation(Vec3::new(0.3, 0.1, 0.05));
+    // `TURN=angle`: the copy turned by that angle (radians) about a fixed axis and moved by 5%
+    // of the radius instead (the benchmark's turned copies; the search's common case).
+    let moved = match std::env::var("TURN")
+        .ok()
+        .and_then(|a| a.parse::<f64>().ok())
+    {
+        Some(angle) => Pose::from_axis_angle(
+            Vec3::new(0.3, 1.0, -0.2).normalize(),
+            angle,
+            Vec3::new(0.6, -0.3, 0.74).normalize() * (0.05 * m.bounding_radius()),
+        ),
+        None => Pose::from_translation(Vec3::new(0.3, 0.1, 0.05)),
+    };
     let error = rel * m.bounding_radius();
     if args.get(5).is_some_and(|a| a == "pointwise") {
         for _ in 0..repeats {
