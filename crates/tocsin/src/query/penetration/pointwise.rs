@@ -92,8 +92,6 @@ struct Inside<'a> {
     /// centre), whether the centre is inside B. Unset entries have a NaN centre.
     known: [(Vec3, f64, bool); KNOWN],
     next: usize,
-    /// The centroid distance of the last piece made (its bound may be deferred).
-    last_dc: f64,
 }
 
 impl Inside<'_> {
@@ -129,8 +127,21 @@ impl Inside<'_> {
         tried: [u32; 2],
         clear: bool,
         siblings: &mut Option<bool>,
-        defer: bool,
     ) -> Option<Piece> {
+        let (mut piece, dc) = self.probed(t, tried, clear, siblings)?;
+        self.bound(&mut piece, dc, &tried);
+        Some(piece)
+    }
+
+    /// [`Self::piece`] before its convex bound: the piece with only the Lipschitz bound, and
+    /// its centroid's distance to B.
+    fn probed(
+        &mut self,
+        t: [Vec3; 3],
+        tried: [u32; 2],
+        clear: bool,
+        siblings: &mut Option<bool>,
+    ) -> Option<(Piece, f64)> {
         let c = (t[0] + t[1] + t[2]) / 3.0;
         let r = t.iter().fold(0.0_f64, |m, p| m.max((*p - c).length()));
         let (dc, q, leaf, meets) = triangle_probe(self.b_mesh.bvh(), &t, c, r, !clear, tried);
@@ -157,15 +168,11 @@ impl Inside<'_> {
             self.witness = (c, q);
         }
         let near = meets.unwrap_or(leaf);
-        self.last_dc = dc;
-        let mut piece = Piece {
+        let piece = Piece {
             upper: dc + r,
             item: (PieceKind::Triangle(t, meets.is_none()), [leaf, near]),
         };
-        if !defer {
-            self.bound(&mut piece, dc, &[tried[0], tried[1]]);
-        }
-        Some(piece)
+        Some((piece, dc))
     }
 
     /// A triangle piece's convex bound (as in the Hausdorff search, the lower envelope of its
@@ -191,9 +198,7 @@ impl Inside<'_> {
         let mut siblings = None;
         let mut parts = [None, None, None, None];
         for (k, sub) in split4(t).into_iter().enumerate() {
-            parts[k] = self
-                .piece(sub, tried, clear, &mut siblings, true)
-                .map(|p| (p, self.last_dc));
+            parts[k] = self.probed(sub, tried, clear, &mut siblings);
         }
         let nearest: [Option<u32>; 4] =
             std::array::from_fn(|k| parts[k].as_ref().map(|(p, _)| p.item.1[0]));
@@ -263,7 +268,7 @@ impl Inside<'_> {
         if node.is_leaf() {
             let t = a.bvh().leaf_triangles()[node.leaf_position() as usize]
                 .map(|p| a_to_b.transform_point(p));
-            return self.piece(t, tried, clear, &mut None, false);
+            return self.piece(t, tried, clear, &mut None);
         }
         if clear {
             return Some(self.inside_node(a, a_to_b, i, tried));
@@ -325,7 +330,7 @@ impl Inside<'_> {
                         let p = if node.is_leaf() {
                             let t = tris[node.leaf_position() as usize]
                                 .map(|p| a_to_b.transform_point(p));
-                            self.piece(t, tried, true, &mut None, false)
+                            self.piece(t, tried, true, &mut None)
                         } else {
                             Some(self.inside_node(a, a_to_b, c, tried))
                         };
@@ -387,7 +392,6 @@ pub fn pointwise_penetration(
             warm: 0,
             known: [(Vec3::NAN, 0.0, false); KNOWN],
             next: 0,
-            last_dc: 0.0,
         };
         let upper = s.run(a, &pb.inv_mul(pa), max_error);
         (
@@ -477,7 +481,6 @@ mod tests {
                 warm: 0,
                 known: [(Vec3::NAN, 0.0, false); KNOWN],
                 next: 0,
-                last_dc: 0.0,
             };
             let mut pieces = Vec::new();
             let mut stack = vec![0u32];
@@ -514,7 +517,7 @@ mod tests {
                             let q = if node.is_leaf() {
                                 let t = tris[node.leaf_position() as usize]
                                     .map(|q| a_to_b.transform_point(q));
-                                s.piece(t, tried, true, &mut None, false)
+                                s.piece(t, tried, true, &mut None)
                             } else {
                                 Some(s.inside_node(a, &a_to_b, c, tried))
                             };
