@@ -18,11 +18,15 @@
 //! is at most the largest `d(., B_j)` at the rectangle's corners plus the radius, and over a
 //! triangle `T` (and the four sub-triangles it is split into, recursively)
 //! `max over T of d(., B) = max over T of min_j d(., B_j) <= min_j max over T of d(., B_j)`,
-//! the maximum of each `d(., B_j)` over `T` being at a corner. The triangles
-//! of B tried for `j`: the one closest to the piece's sampled point and the two its parent
-//! tried (neighbouring points have neighbouring closest triangles). Where one triangle of B
-//! lies under all of `T` (two parallel plates) this is exact at once, where the Lipschitz
-//! bound would need `(size / e)^2` pieces.
+//! the maximum of each `d(., B_j)` over `T` being at a corner. Tighter, since the eighteenth
+//! session: each `d(., B_j)` is at most the interpolation of its corner values, so
+//! `max over T of d(., B)` is at most the largest over `T` of the smallest of those linear
+//! functions (`surface::envelope_bound`, the lower envelope: at a corner or where two or three
+//! cross). The triangles of B tried for `j`: the one closest to the piece's sampled point, the
+//! two its parent tried (neighbouring points have neighbouring closest triangles) and, for the
+//! parts of a split, the three other parts' closest ones (spread over the parent, they are
+//! near where the others are not). Where one triangle of B lies under all of `T` (two parallel
+//! plates) this is exact at once, where the Lipschitz bound would need `(size / e)^2` pieces.
 //!
 //! One exact distance per piece, not four (corners and centroid) as before: 2.3 times faster
 //! on the benchmark's knot against a moved copy, the same values (docs/BENCHMARKS.md, ninth
