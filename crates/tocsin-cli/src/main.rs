@@ -7,8 +7,9 @@
 //! `translation`, `interp`, `screw` and START, END poses (`interp` takes an optional fourth
 //! field, the centre `x,y,z` in the body frame). `tocsin run scene.json` (or `.toml`) runs a
 //! scene file (see `scene.rs`); `tocsin robot-path robot.urdf --q0 .. --q1 ..` checks a robot's
-//! joint-space segment (see `robot.rs`); `penetration` and `hausdorff` give the penetration
-//! depth and the Hausdorff distance of two placed meshes. Errors print one line and exit with
+//! joint-space segment (see `robot.rs`); `penetration`, `pointwise` and `hausdorff` give the
+//! translational and pointwise penetration depths and the Hausdorff distance of two placed
+//! meshes. Errors print one line and exit with
 //! status 2.
 
 mod rain;
@@ -168,6 +169,16 @@ enum Command {
         #[arg(long)]
         symmetric: bool,
     },
+    /// Pointwise penetration depth: the deepest point of either surface inside the other body
+    /// (generalized winding number) and its distance to the other surface, exact within
+    /// --max-error.
+    Pointwise {
+        #[command(flatten)]
+        pair: PairArgs,
+        /// Error bound, model units (default 1e-4 of the smaller bounding radius).
+        #[arg(long)]
+        max_error: Option<f64>,
+    },
     /// Whether the distance is at most THRESHOLD (model units).
     Within {
         #[command(flatten)]
@@ -302,6 +313,22 @@ fn run(cli: Cli) -> Result<serde_json::Value, String> {
                 .map_err(|e| e.to_string())?;
             Ok(json!({
                 "distance": r.distance,
+                "upper_bound": r.upper_bound,
+                "point1": r.point1.to_array(),
+                "point2": r.point2.to_array(),
+                "from_first": r.from_first,
+                "seconds": start.elapsed().as_secs_f64(),
+            }))
+        }
+        Command::Pointwise { pair, max_error } => {
+            let (m1, p1, m2, p2) = setup(&pair)?;
+            let e = max_error
+                .unwrap_or_else(|| tocsin::query::penetration::default_max_error(&m1, &m2));
+            let start = std::time::Instant::now();
+            let r =
+                tocsin::pointwise_penetration(&m1, &p1, &m2, &p2, e).map_err(|e| e.to_string())?;
+            Ok(json!({
+                "depth": r.depth,
                 "upper_bound": r.upper_bound,
                 "point1": r.point1.to_array(),
                 "point2": r.point2.to_array(),

@@ -474,7 +474,7 @@ fn robot_path_reports_contacts_and_free_segments() {
 }
 
 #[test]
-fn penetration_and_hausdorff() {
+fn penetration_pointwise_and_hausdorff() {
     let (code, out, err) = tocsin(&[
         "penetration",
         "builtin:box",
@@ -512,6 +512,32 @@ fn penetration_and_hausdorff() {
         "{out}"
     );
     let (code, _, err) = tocsin(&["hausdorff", "builtin:box", "builtin:box", "--max-error=-1"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("max_error"), "{err}");
+    // Pointwise depth of the boxes overlapping by 0.2: the deepest points are 0.2 inside.
+    let (code, out, err) = tocsin(&[
+        "pointwise",
+        "builtin:box",
+        "builtin:box",
+        "--pose2",
+        "0.8,0,0",
+        "--max-error",
+        "1e-6",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert!((v["depth"].as_f64().unwrap() - 0.2).abs() < 1e-6, "{out}");
+    assert!(v["upper_bound"].as_f64().unwrap() >= v["depth"].as_f64().unwrap());
+    let (_, out, _) = tocsin(&[
+        "pointwise",
+        "builtin:box",
+        "builtin:box",
+        "--pose2",
+        "3,0,0",
+    ]);
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["depth"].as_f64(), Some(0.0), "{out}");
+    let (code, _, err) = tocsin(&["pointwise", "builtin:box", "builtin:box", "--max-error=0"]);
     assert_eq!(code, 2);
     assert!(err.contains("max_error"), "{err}");
 }
