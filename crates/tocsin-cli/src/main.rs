@@ -285,20 +285,7 @@ fn run(cli: Cli) -> Result<serde_json::Value, String> {
             let start = std::time::Instant::now();
             let r =
                 tocsin::penetration_depth(&m1, &p1, &m2, &p2, &opts).map_err(|e| e.to_string())?;
-            Ok(json!({
-                "depth": r.depth,
-                "translation": r.translation.to_array(),
-                "direction": r.direction.to_array(),
-                "point1": r.point1.to_array(),
-                "point2": r.point2.to_array(),
-                "iterations": r.iterations,
-                "status": match r.status {
-                    tocsin::DepthStatus::Separated => "separated",
-                    tocsin::DepthStatus::Converged => "converged",
-                    _ => "iteration_limit",
-                },
-                "seconds": start.elapsed().as_secs_f64(),
-            }))
+            Ok(timed(spec::depth_json(&r), start))
         }
         Command::Hausdorff {
             pair,
@@ -311,14 +298,7 @@ fn run(cli: Cli) -> Result<serde_json::Value, String> {
             let start = std::time::Instant::now();
             let r = tocsin::hausdorff_distance(&m1, &p1, &m2, &p2, e, symmetric)
                 .map_err(|e| e.to_string())?;
-            Ok(json!({
-                "distance": r.distance,
-                "upper_bound": r.upper_bound,
-                "point1": r.point1.to_array(),
-                "point2": r.point2.to_array(),
-                "from_first": r.from_first,
-                "seconds": start.elapsed().as_secs_f64(),
-            }))
+            Ok(timed(spec::hausdorff_json(&r), start))
         }
         Command::Pointwise { pair, max_error } => {
             let (m1, p1, m2, p2) = setup(&pair)?;
@@ -327,14 +307,7 @@ fn run(cli: Cli) -> Result<serde_json::Value, String> {
             let start = std::time::Instant::now();
             let r =
                 tocsin::pointwise_penetration(&m1, &p1, &m2, &p2, e).map_err(|e| e.to_string())?;
-            Ok(json!({
-                "depth": r.depth,
-                "upper_bound": r.upper_bound,
-                "point1": r.point1.to_array(),
-                "point2": r.point2.to_array(),
-                "from_first": r.from_first,
-                "seconds": start.elapsed().as_secs_f64(),
-            }))
+            Ok(timed(spec::pointwise_json(&r), start))
         }
         Command::Within { pair, threshold } => {
             let (m1, p1, m2, p2) = setup(&pair)?;
@@ -342,6 +315,12 @@ fn run(cli: Cli) -> Result<serde_json::Value, String> {
             Ok(json!({ "within": w, "threshold": threshold }))
         }
     }
+}
+
+/// `v` with the seconds since `start` added (the penetration queries report their time).
+fn timed(mut v: serde_json::Value, start: std::time::Instant) -> serde_json::Value {
+    v["seconds"] = json!(start.elapsed().as_secs_f64());
+    v
 }
 
 /// Writes the result line. A reader that closed the pipe early (`tocsin ... | head -c 10`)

@@ -9,21 +9,29 @@
 //!     { "query": "within", "mesh1": "a", "mesh2": "b", "pose2": [9, 0, 0], "threshold": 0.5 },
 //!     { "query": "contact_time", "mesh1": "a", "mesh2": "b",
 //!       "motion1": { "kind": "screw", "start": [-14, 1, 0.5], "end": [14, 0, 0, 0, 0, 1.2] },
-//!       "tolerance": 0.001 } ] }
+//!       "tolerance": 0.001 },
+//!     { "query": "penetration", "mesh1": "a", "mesh2": "a", "pose2": [0.3, 0, 0] },
+//!     { "query": "pointwise", "mesh1": "a", "mesh2": "a", "pose2": [0.3, 0, 0], "max_error": 1e-3 },
+//!     { "query": "hausdorff", "mesh1": "a", "mesh2": "b", "symmetric": true } ] }
 //! ```
 //! Poses are 3, 6 or 16 numbers as on the command line; a missing pose is the identity and a
 //! missing motion keeps the body at the identity. Relative mesh paths are taken from the scene
 //! file's folder. A key given twice (a mesh name, a query field) is an error, not "the last
 //! one wins".
 
-use crate::spec::{contact_json, distance_json, load_mesh, motion_from, pose_from_values};
+use crate::spec::{
+    contact_json, depth_json, distance_json, hausdorff_json, load_mesh, motion_from,
+    pointwise_json, pose_from_values,
+};
 use serde::Deserialize;
 use serde_json::{json, Value};
 use std::collections::BTreeMap;
 use std::io::IsTerminal;
+use tocsin::query::penetration::default_max_error;
 use tocsin::{
-    collide, distance, time_of_contact, within_distance, ContactOptions, DistanceOptions, Motion,
-    Pose, TriMesh, Vec3,
+    collide, distance, hausdorff_distance, penetration_depth, pointwise_penetration,
+    time_of_contact, within_distance, ContactOptions, DepthOptions, DistanceOptions, Motion, Pose,
+    TriMesh, Vec3,
 };
 
 #[derive(Deserialize)]
@@ -106,6 +114,29 @@ enum Query {
         motion2: Option<MotionSpec>,
         tolerance: Option<f64>,
         max_iterations: Option<usize>,
+    },
+    Penetration {
+        mesh1: String,
+        mesh2: String,
+        pose1: Option<Vec<f64>>,
+        pose2: Option<Vec<f64>>,
+        tolerance: Option<f64>,
+    },
+    Pointwise {
+        mesh1: String,
+        mesh2: String,
+        pose1: Option<Vec<f64>>,
+        pose2: Option<Vec<f64>>,
+        max_error: Option<f64>,
+    },
+    Hausdorff {
+        mesh1: String,
+        mesh2: String,
+        pose1: Option<Vec<f64>>,
+        pose2: Option<Vec<f64>>,
+        max_error: Option<f64>,
+        #[serde(default)]
+        symmetric: bool,
     },
 }
 
@@ -235,6 +266,67 @@ pub fn run(path: &str) -> Result<Value, String> {
                 )
                 .map_err(|e| format!("query {i}: {e}"))?;
                 contact_json(&r)
+            }
+            Query::Penetration {
+                mesh1,
+                mesh2,
+                pose1,
+                pose2,
+                tolerance,
+            } => {
+                let opts = DepthOptions {
+                    tolerance: *tolerance,
+                    ..Default::default()
+                };
+                let r = penetration_depth(
+                    get(mesh1, i)?,
+                    &pose(pose1, &at("pose1"))?,
+                    get(mesh2, i)?,
+                    &pose(pose2, &at("pose2"))?,
+                    &opts,
+                )
+                .map_err(|e| format!("query {i}: {e}"))?;
+                depth_json(&r)
+            }
+            Query::Pointwise {
+                mesh1,
+                mesh2,
+                pose1,
+                pose2,
+                max_error,
+            } => {
+                let (m1, m2) = (get(mesh1, i)?, get(mesh2, i)?);
+                let e = max_error.unwrap_or_else(|| default_max_error(m1, m2));
+                let r = pointwise_penetration(
+                    m1,
+                    &pose(pose1, &at("pose1"))?,
+                    m2,
+                    &pose(pose2, &at("pose2"))?,
+                    e,
+                )
+                .map_err(|e| format!("query {i}: {e}"))?;
+                pointwise_json(&r)
+            }
+            Query::Hausdorff {
+                mesh1,
+                mesh2,
+                pose1,
+                pose2,
+                max_error,
+                symmetric,
+            } => {
+                let (m1, m2) = (get(mesh1, i)?, get(mesh2, i)?);
+                let e = max_error.unwrap_or_else(|| default_max_error(m1, m2));
+                let r = hausdorff_distance(
+                    m1,
+                    &pose(pose1, &at("pose1"))?,
+                    m2,
+                    &pose(pose2, &at("pose2"))?,
+                    e,
+                    *symmetric,
+                )
+                .map_err(|e| format!("query {i}: {e}"))?;
+                hausdorff_json(&r)
             }
         };
         results.push(result);

@@ -3,7 +3,8 @@
 
 use serde_json::{json, Value};
 use tocsin::{
-    mesh, ContactStatus, ContactTime, DistanceResult, Mat3, Mat4, Motion, Pose, TriMesh, Vec3,
+    mesh, ContactStatus, ContactTime, DepthStatus, DistanceResult, HausdorffResult, Mat3, Mat4,
+    Motion, PenetrationDepth, PointwisePenetration, Pose, TriMesh, Vec3,
 };
 
 /// A mesh from a path (.obj, .stl, .ply; a relative path is taken from `base`, the scene
@@ -137,4 +138,33 @@ pub fn contact_json(r: &Option<ContactTime>) -> Value {
             },
         }),
     }
+}
+
+/// A translational penetration depth as JSON (world frame; the translation is body 2's).
+pub fn depth_json(r: &PenetrationDepth) -> Value {
+    json!({
+        "depth": r.depth, "translation": vec(r.translation), "direction": vec(r.direction),
+        "point1": vec(r.point1), "point2": vec(r.point2), "iterations": r.iterations,
+        "status": match r.status {
+            DepthStatus::Separated => "separated",
+            DepthStatus::Converged => "converged",
+            _ => "iteration_limit",
+        },
+    })
+}
+
+/// A Hausdorff distance as JSON (world frame).
+pub fn hausdorff_json(r: &HausdorffResult) -> Value {
+    json!({
+        "distance": r.distance, "upper_bound": r.upper_bound, "point1": vec(r.point1),
+        "point2": vec(r.point2), "from_first": r.from_first,
+    })
+}
+
+/// A pointwise penetration depth as JSON (world frame).
+pub fn pointwise_json(r: &PointwisePenetration) -> Value {
+    json!({
+        "depth": r.depth, "upper_bound": r.upper_bound, "point1": vec(r.point1),
+        "point2": vec(r.point2), "from_first": r.from_first,
+    })
 }

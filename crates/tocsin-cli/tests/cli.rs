@@ -111,13 +111,34 @@ fn scene_files_in_json_and_toml() {
         { "query": "contact_time", "mesh1": "a", "mesh2": "a", "tolerance": 1e-6,
           "motion1": { "kind": "translation", "start": [3, 0, 0], "end": [-1, 0, 0] } },
         { "query": "contact_time", "mesh1": "k", "mesh2": "k",
-          "motion1": { "kind": "interp", "start": [-14, 1, 0.5], "end": [14, 0, 0, 0, 0, 1.2], "center": [0, 0, 0] } }
+          "motion1": { "kind": "interp", "start": [-14, 1, 0.5], "end": [14, 0, 0, 0, 0, 1.2], "center": [0, 0, 0] } },
+        { "query": "penetration", "mesh1": "a", "mesh2": "a", "pose2": [0.8, 0, 0] },
+        { "query": "pointwise", "mesh1": "a", "mesh2": "a", "pose2": [0.8, 0, 0], "max_error": 1e-6 },
+        { "query": "hausdorff", "mesh1": "a", "mesh2": "a", "pose2": [0, 0, 0.25], "symmetric": true }
       ] }"#;
     let (code, out, err) = tocsin(&["run", &scene_file("s.json", json)]);
     assert_eq!(code, 0, "{err}");
     let v: serde_json::Value = serde_json::from_str(&out).unwrap();
     let r = v["results"].as_array().unwrap();
-    assert_eq!(r.len(), 5);
+    assert_eq!(r.len(), 8);
+    // Unit boxes overlapping by 0.2 along x: pushed apart by 0.2, deepest points 0.2 inside;
+    // lifted by 0.25: every point of one within 0.25 of the other.
+    assert_eq!(r[5]["status"], "converged");
+    assert!(
+        (r[5]["depth"].as_f64().unwrap() - 0.2).abs() < 2e-3,
+        "{}",
+        r[5]
+    );
+    assert!(
+        (r[6]["depth"].as_f64().unwrap() - 0.2).abs() < 1e-6,
+        "{}",
+        r[6]
+    );
+    assert!(
+        (r[7]["distance"].as_f64().unwrap() - 0.25).abs() < 1e-4,
+        "{}",
+        r[7]
+    );
     assert!((r[0]["distance"].as_f64().unwrap() - 1.0).abs() < 1e-12);
     assert_eq!(r[1]["collide"], true);
     assert_eq!(r[2]["within"], false);
@@ -164,6 +185,16 @@ fn bad_scenes_are_one_line_and_status_2() {
             "mesh `a`",
         ),
         ("t.toml", "[meshes\n", "t.toml"),
+        (
+            "e.json",
+            r#"{ "meshes": { "a": "builtin:box" }, "queries": [ { "query": "pointwise", "mesh1": "a", "mesh2": "a", "max_error": 0 } ] }"#,
+            "query 0: option `max_error`",
+        ),
+        (
+            "h.json",
+            r#"{ "meshes": { "a": "builtin:box" }, "queries": [ { "query": "hausdorff", "mesh1": "a", "mesh2": "a", "max_error": -1 } ] }"#,
+            "query 0: option `max_error`",
+        ),
     ] {
         let (code, out, err) = tocsin(&["run", &scene_file(name, text)]);
         assert_eq!(code, 2, "{name}: {err}");
