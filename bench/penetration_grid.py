@@ -51,6 +51,26 @@ def penetrates(m, p2):
     return bool(tocsin.contains(m, np.eye(4), c2[None])[0] or tocsin.contains(m, p2, c1[None])[0])
 
 
+def pushed_in(m, rng, f):
+    """A turned copy of `m` touching it from a random direction `u` (tocsin's exact continuous
+    query from `far` out), pushed back by `f` of the bounding radius along `-u`: `(pose, u, far)`,
+    or None when there is no contact or the copy does not penetrate."""
+    R = m.bounding_radius
+    u = unit(rng)
+    p2 = np.eye(4)
+    p2[:3, :3] = rotation(rng)
+    far = 4 * R + 1.0
+    start, end = p2.copy(), p2.copy()
+    start[:3, 3] = far * u
+    c = tocsin.time_of_contact(m, tocsin.Motion.stationary(np.eye(4)), m, tocsin.Motion.translation(start, end))
+    if c is None:
+        return None
+    p2[:3, 3] = far * u * (1 - c.time) - f * R * u
+    if not penetrates(m, p2):
+        return None
+    return p2, u, far
+
+
 def directional(m, p2, v, far):
     def at(s):
         q = p2.copy()
@@ -99,20 +119,10 @@ def main():
         for f in (0.01, 0.05, 0.2):
             times, iters, ratios = [], [], []
             for _ in range(args.queries):
-                u = unit(rng)
-                p2 = np.eye(4)
-                p2[:3, :3] = rotation(rng)
-                far = 4 * R + 1.0
-                start, end = p2.copy(), p2.copy()
-                start[:3, 3] = far * u
-                c = tocsin.time_of_contact(
-                    m, tocsin.Motion.stationary(np.eye(4)), m, tocsin.Motion.translation(start, end)
-                )
-                if c is None:
+                placed = pushed_in(m, rng, f)
+                if placed is None:
                     continue
-                p2[:3, 3] = far * u * (1 - c.time) - f * R * u
-                if not penetrates(m, p2):
-                    continue
+                p2, u, far = placed
                 t = time.perf_counter()
                 r = tocsin.penetration_depth(m, np.eye(4), m, p2, directions=args.directions)
                 times.append(time.perf_counter() - t)

@@ -48,7 +48,7 @@ def moved(t):
 
 
 def grid(args):
-    from penetration_grid import penetrates, rotation, unit
+    from penetration_grid import pushed_in, rotation, unit
 
     meshes = models(["knot2.8k", "knot11k", "knot34k", "bunny"])
     import pybullet_data
@@ -66,18 +66,10 @@ def grid(args):
         for f in (0.01, 0.05, 0.2):
             times, depths = [], []
             for _ in range(8):
-                u = unit(rng)
-                p2 = np.eye(4)
-                p2[:3, :3] = rotation(rng)
-                far = 4 * R + 1.0
-                start, end = p2.copy(), p2.copy()
-                start[:3, 3] = far * u
-                c = tocsin.time_of_contact(m, tocsin.Motion.stationary(np.eye(4)), m, tocsin.Motion.translation(start, end))
-                if c is None:
+                placed = pushed_in(m, rng, f)
+                if placed is None:
                     continue
-                p2[:3, 3] = far * u * (1 - c.time) - f * R * u
-                if not penetrates(m, p2):
-                    continue
+                p2 = placed[0]
                 run = lambda: tocsin.pointwise_penetration(m, np.eye(4), m, p2, max_error=1e-4 * R)
                 times.append(median_ms(run, args.repeats))
                 depths.append(run().depth / R)

@@ -45,7 +45,8 @@ use std::collections::BinaryHeap;
 use crate::error::OptionsError;
 use crate::math::{Pose, Vec3};
 use crate::query::penetration::surface::{
-    ball_meets_mesh, corner_bound, envelope_bound, node_probe, split4, triangle_probe, Ranked,
+    ball_meets_mesh, corner_bound, envelope_bound, node_probe, rectangle_corners, split4,
+    triangle_probe, Ranked,
 };
 use crate::query::penetration::winding::inside;
 use crate::TriMesh;
@@ -119,8 +120,8 @@ impl Inside<'_> {
 
     /// The piece's upper bound, or `None` when it lies outside B (it does not meet B's surface
     /// and its side is outside). One probe of B: whether the piece meets B's surface and the
-    /// exact distance of its centroid (a sample when the piece is inside); the convex-corner
-    /// bound tries B's triangles nearest the piece and its centroid and the two its parent
+    /// exact distance of its centroid (a sample when the piece is inside); the envelope bound
+    /// tries B's triangles nearest the piece and its centroid and the two its parent
     /// tried (`tried`), which the piece passes on. `clear`: the piece is known to lie inside B
     /// without meeting its surface (a part of such a piece, or of such a node), so neither is
     /// tested again. `siblings`: the side of the pieces split from the same parent that do not
@@ -239,6 +240,28 @@ impl Inside<'_> {
         }
     }
 
+    /// The two children of inside node `i`: inside nodes, or clear triangle pieces at the leaves.
+    fn open_inside(
+        &mut self,
+        a: &TriMesh,
+        a_to_b: &Pose,
+        i: u32,
+        tried: [u32; 2],
+    ) -> [Option<Piece>; 2] {
+        let nodes = a.bvh().nodes();
+        let (l, r) = nodes[i as usize].children(i);
+        [l, r].map(|c| {
+            let node = &nodes[c as usize];
+            if node.is_leaf() {
+                let t = a.bvh().leaf_triangles()[node.leaf_position() as usize]
+                    .map(|p| a_to_b.transform_point(p));
+                self.piece(t, tried, true, &mut None)
+            } else {
+                Some(self.inside_node(a, a_to_b, c, tried))
+            }
+        })
+    }
+
     /// Queues a piece worth splitting, or records the bound of one that is not.
     fn keep(&mut self, heap: &mut BinaryHeap<Piece>, p: Piece, max_error: f64) {
         if p.upper > self.lower + max_error {
@@ -284,17 +307,7 @@ impl Inside<'_> {
             // corner bound over its rectangle, plus its radius. No exact distance: a bound
             // covering the parts outside B too, valid for the inside ones.
             let rss = &node.rss;
-            let (e0, e1) = (
-                rss.axes.x_axis * rss.half_lengths[0],
-                rss.axes.y_axis * rss.half_lengths[1],
-            );
-            let corners = [
-                rss.center + e0 + e1,
-                rss.center + e0 - e1,
-                rss.center - e0 + e1,
-                rss.center - e0 - e1,
-            ]
-            .map(|p| a_to_b.transform_point(p));
+            let corners = rectangle_corners(rss, a_to_b);
             let upper = (2.0 * rss.bounding_radius())
                 .min(corner_bound(self.b_mesh.bvh(), &corners, &tried[..1]) + rss.radius);
             return Some(Piece {
@@ -316,7 +329,7 @@ impl Inside<'_> {
         // nodes, bounded as the Hausdorff search bounds them, split only when that bound is not
         // within the error); small nodes near B's surface are bounded whole too, larger ones
         // opened (`open`).
-        let (nodes, tris) = (a.bvh().nodes(), a.bvh().leaf_triangles());
+        let nodes = a.bvh().nodes();
         let mut stack = vec![0u32];
         while let Some(i) = stack.pop() {
             if let Some(p) = self.open(a, a_to_b, i, &mut stack) {
@@ -329,19 +342,8 @@ impl Inside<'_> {
             }
             match piece.item {
                 (PieceKind::Inside(i), tried) => {
-                    let (l, r) = nodes[i as usize].children(i);
-                    for c in [l, r] {
-                        let node = &nodes[c as usize];
-                        let p = if node.is_leaf() {
-                            let t = tris[node.leaf_position() as usize]
-                                .map(|p| a_to_b.transform_point(p));
-                            self.piece(t, tried, true, &mut None)
-                        } else {
-                            Some(self.inside_node(a, a_to_b, c, tried))
-                        };
-                        if let Some(p) = p {
-                            self.keep(&mut heap, p, max_error);
-                        }
+                    for p in self.open_inside(a, a_to_b, i, tried).into_iter().flatten() {
+                        self.keep(&mut heap, p, max_error);
                     }
                 }
                 (PieceKind::Near(i), tried) => {
@@ -516,17 +518,8 @@ mod tests {
                 match p.item.0 {
                     PieceKind::Inside(i) => {
                         kinds[0] += 1;
-                        let (l, r) = nodes[i as usize].children(i);
-                        for c in [l, r] {
-                            let node = &nodes[c as usize];
-                            let q = if node.is_leaf() {
-                                let t = tris[node.leaf_position() as usize]
-                                    .map(|q| a_to_b.transform_point(q));
-                                s.piece(t, tried, true, &mut None)
-                            } else {
-                                Some(s.inside_node(a, &a_to_b, c, tried))
-                            };
-                            pieces.extend(q.map(|q| (q, depth)));
+                        for q in s.open_inside(a, &a_to_b, i, tried).into_iter().flatten() {
+                            pieces.push((q, depth));
                         }
                     }
                     PieceKind::Near(i) => {

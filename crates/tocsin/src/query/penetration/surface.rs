@@ -362,6 +362,22 @@ pub(crate) struct NodeProbe {
     pub leaf: u32,
 }
 
+/// The four corners of a volume's rectangle, placed by `pose`: `centre + e0 + e1`, `+ e0 - e1`,
+/// `- e0 + e1`, `- e0 - e1` with `e0`, `e1` its half-length axes.
+pub(crate) fn rectangle_corners(rss: &Rss, pose: &Pose) -> [Vec3; 4] {
+    let (e0, e1) = (
+        rss.axes.x_axis * rss.half_lengths[0],
+        rss.axes.y_axis * rss.half_lengths[1],
+    );
+    [
+        rss.center + e0 + e1,
+        rss.center + e0 - e1,
+        rss.center - e0 + e1,
+        rss.center - e0 - e1,
+    ]
+    .map(|p| pose.transform_point(p))
+}
+
 /// Probes node `i` of `a` from `b` (see [`NodeProbe`]); `tried`: the parent's two triangles of
 /// B (the first starts the exact distance). Every point of the volume is within
 /// `|p - centre| + r` of the sampled point `p` (the distance to B is 1-Lipschitz); and the
@@ -376,17 +392,7 @@ pub(crate) fn node_probe(a: &Bvh, a_to_b: &Pose, b: &Bvh, i: u32, tried: [u32; 2
     let p = a_to_b.transform_point((middle[0] + middle[1] + middle[2]) / 3.0);
     let (d, q, leaf) = point_to_mesh(b, p, tried[0]);
     let centre = a_to_b.transform_point(rss.center);
-    let (e0, e1) = (
-        rss.axes.x_axis * rss.half_lengths[0],
-        rss.axes.y_axis * rss.half_lengths[1],
-    );
-    let corners = [
-        rss.center + e0 + e1,
-        rss.center + e0 - e1,
-        rss.center - e0 + e1,
-        rss.center - e0 - e1,
-    ]
-    .map(|p| a_to_b.transform_point(p));
+    let corners = rectangle_corners(rss, a_to_b);
     let candidates = [leaf, tried[0], tried[1]];
     let upper = (d + (p - centre).length() + rss.bounding_radius())
         .min(corner_bound(b, &corners, &candidates) + rss.radius);
