@@ -18,7 +18,7 @@ as in a simulation's penetrations), also on a 50,000-triangle knot (the issue's 
 median and 90th percentile over the queries of each query's median time. Then the symmetric Hausdorff distance of each model against 8 copies
 turned by random rotations and moved by 5% of R, at three error bounds (median over the copies).
 
-    python bench/surface_queries.py [--repeats 3] [--threads 1] [--grid [--models knot50k,...]] [--out bench/out/surface_queries.md]
+    python bench/surface_queries.py [--repeats 3] [--threads 1] [--grid [--models knot50k,...] [--dump-poses DIR]] [--out bench/out/surface_queries.md]
 """
 
 import argparse
@@ -70,6 +70,10 @@ def grid(args):
                 if placed is None:
                     continue
                 p2 = placed[0]
+                if args.dump_poses:
+                    os.makedirs(args.dump_poses, exist_ok=True)
+                    with open(os.path.join(args.dump_poses, f"{name}_{round(100 * f)}.txt"), "a") as out:
+                        out.write(" ".join(f"{x:.17e}" for x in p2[:3, :4].ravel()) + "\n")
                 run = lambda: tocsin.pointwise_penetration(m, np.eye(4), m, p2, max_error=1e-4 * R)
                 times.append(median_ms(run, args.repeats))
                 depths.append(run().depth / R)
@@ -110,6 +114,7 @@ def main():
     ap.add_argument("--out", default=os.path.join("bench", "out", "surface_queries.md"))
     ap.add_argument("--grid", action="store_true", help="pointwise depth at the penetration grid's poses")
     ap.add_argument("--models", help="with --grid, only these models (comma-separated names)")
+    ap.add_argument("--dump-poses", help="with --grid, append each query's pose of the copy to DIR/model_percent.txt (12 numbers a line, rows of [R | t]) for `POSES=file examples/profile_depth`")
     args = ap.parse_args()
     # Read when tocsin's pool starts, at the first mesh build below.
     os.environ["RAYON_NUM_THREADS"] = str(args.threads)

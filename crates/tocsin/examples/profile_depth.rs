@@ -20,6 +20,29 @@ fn main() {
     };
     let r = m.bounding_radius();
     let mut times = Vec::new();
+    if let Ok(path) = std::env::var("POSES") {
+        // Poses of mesh 2 from a file (mesh 1 at the identity): 12 numbers a line, the rows of
+        // the 3x4 matrix [R | t], as `bench/penetration_grid.py --dump-poses` writes them.
+        let text = std::fs::read_to_string(path).expect("poses file");
+        for (k, line) in text.lines().enumerate() {
+            let v: Vec<f64> = line
+                .split_whitespace()
+                .filter_map(|x| x.parse().ok())
+                .collect();
+            if v.len() != 12 {
+                continue;
+            }
+            let rot = Mat3::from_cols(
+                Vec3::new(v[0], v[4], v[8]),
+                Vec3::new(v[1], v[5], v[9]),
+                Vec3::new(v[2], v[6], v[10]),
+            );
+            let p2 = Pose::new(rot, Vec3::new(v[3], v[7], v[11])).expect("pose");
+            times.push(query(&m, &p2, r, k));
+        }
+        report(times);
+        return;
+    }
     for k in 0..24 {
         let a = k as f64 * 2.399;
         let u = Vec3::new(
@@ -43,25 +66,36 @@ fn main() {
         .expect("toc");
         let Some(c) = c else { continue };
         let p2 = Pose::new(rot, u * (far * (1.0 - c.time) - f * r)).expect("pose");
-        let clock = Instant::now();
-        if let Some(rel) = std::env::var("POINTWISE")
-            .ok()
-            .and_then(|s| s.parse::<f64>().ok())
-        {
-            let p = pointwise_penetration(&m, &Pose::IDENTITY, &m, &p2, rel * r).expect("pw");
-            times.push(clock.elapsed().as_secs_f64() * 1e3);
-            if std::env::var("DEPTHS").is_ok() {
-                println!("{k} {:.17e} {:.17e}", p.depth, p.upper_bound);
-            }
-            continue;
-        }
-        let d =
-            penetration_depth(&m, &Pose::IDENTITY, &m, &p2, &DepthOptions::default()).expect("pd");
-        times.push(clock.elapsed().as_secs_f64() * 1e3);
-        if std::env::var("DEPTHS").is_ok() {
-            println!("{k} {:.17e} {:?}", d.depth, d.translation);
-        }
+        times.push(query(&m, &p2, r, k));
     }
+    report(times);
+}
+
+/// One timed query at mesh 2's pose `p2` (ms): the pointwise depth with `POINTWISE=rel`, else
+/// the penetration depth; `DEPTHS=1` prints its answer.
+fn query(m: &tocsin::TriMesh, p2: &Pose, r: f64, k: usize) -> f64 {
+    let clock = Instant::now();
+    if let Some(rel) = std::env::var("POINTWISE")
+        .ok()
+        .and_then(|s| s.parse::<f64>().ok())
+    {
+        let p = pointwise_penetration(m, &Pose::IDENTITY, m, p2, rel * r).expect("pw");
+        let ms = clock.elapsed().as_secs_f64() * 1e3;
+        if std::env::var("DEPTHS").is_ok() {
+            println!("{k} {:.17e} {:.17e}", p.depth, p.upper_bound);
+        }
+        return ms;
+    }
+    let d = penetration_depth(m, &Pose::IDENTITY, m, p2, &DepthOptions::default()).expect("pd");
+    let ms = clock.elapsed().as_secs_f64() * 1e3;
+    if std::env::var("DEPTHS").is_ok() {
+        println!("{k} {:.17e} {:?}", d.depth, d.translation);
+    }
+    ms
+}
+
+/// Prints the count, median and largest of the times (ms).
+fn report(mut times: Vec<f64>) {
     times.sort_by(f64::total_cmp);
     println!(
         "{} queries, median {:.2} ms, max {:.2} ms",
