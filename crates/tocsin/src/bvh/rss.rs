@@ -134,6 +134,14 @@ impl Rss {
         self.half_lengths[0] + self.half_lengths[1] + self.radius
     }
 
+    /// The farthest a point of the volume lies from `center`: the rectangle's corner plus the
+    /// radius, `sqrt(h1^2 + h2^2) + r` (at most [`Self::bounding_radius`]).
+    #[inline]
+    pub(crate) fn corner_radius(&self) -> f64 {
+        let [h1, h2] = self.half_lengths;
+        (h1 * h1 + h2 * h2).sqrt() + self.radius
+    }
+
     /// A size used to choose which of two volumes to split first during traversal.
     #[inline]
     pub(crate) fn size(&self) -> f64 {

@@ -199,8 +199,7 @@ impl<'a> PointSet<'a> {
     /// and the volume itself for its support.
     #[inline]
     fn volume(r: &'a Rss, motion: Path<'_>) -> Self {
-        let [h1, h2] = r.half_lengths;
-        let (center, radius) = (r.center, (h1 * h1 + h2 * h2).sqrt() + r.radius);
+        let (center, radius) = (r.center, r.corner_radius());
         let rho = match motion {
             Path::Rigid(m) => m.axis_distance(center) + radius,
             Path::Chain(_) => 0.0,

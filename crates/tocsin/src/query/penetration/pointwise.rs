@@ -306,19 +306,19 @@ impl Inside<'_> {
         let node = &a.bvh().nodes()[i as usize];
         let c = a_to_b.transform_point(node.rss.center);
         // The last triangle of B a ball met starts the test, and the piece's bounds.
-        let clear =
-            match ball_meets_mesh(self.b_mesh.bvh(), c, node.rss.bounding_radius(), self.warm) {
-                Err(near) => {
-                    self.warm = near;
-                    false
+        let clear = match ball_meets_mesh(self.b_mesh.bvh(), c, node.rss.corner_radius(), self.warm)
+        {
+            Err(near) => {
+                self.warm = near;
+                false
+            }
+            Ok(free) => {
+                if !self.side(c, free) {
+                    return None;
                 }
-                Ok(free) => {
-                    if !self.side(c, free) {
-                        return None;
-                    }
-                    true
-                }
-            };
+                true
+            }
+        };
         let tried = [self.warm; 2];
         if node.is_leaf() {
             let t = a.bvh().leaf_triangles()[node.leaf_position() as usize]
@@ -332,7 +332,7 @@ impl Inside<'_> {
             // that bound, it is only probed if the bound is still above the lower bound when
             // it comes up: at 20% of the radius most such triangles never are (knot2.8k -23%
             // instructions, 1-4% more at 1%, where nearly all are).
-            let upper = (2.0 * node.rss.bounding_radius()).min(corner_bound(
+            let upper = (2.0 * node.rss.corner_radius()).min(corner_bound(
                 self.b_mesh.bvh(),
                 &t,
                 &tried[..1],
@@ -352,7 +352,7 @@ impl Inside<'_> {
             // covering the parts outside B too, valid for the inside ones.
             let rss = &node.rss;
             let corners = rectangle_corners(rss, a_to_b);
-            let upper = (2.0 * rss.bounding_radius())
+            let upper = (2.0 * rss.corner_radius())
                 .min(corner_bound(self.b_mesh.bvh(), &corners, &tried[..1]) + rss.radius);
             return Some(Piece {
                 upper,

@@ -394,7 +394,7 @@ pub(crate) fn node_probe(a: &Bvh, a_to_b: &Pose, b: &Bvh, i: u32, tried: [u32; 2
     let centre = a_to_b.transform_point(rss.center);
     let corners = rectangle_corners(rss, a_to_b);
     let candidates = [leaf, tried[0], tried[1]];
-    let upper = (d + (p - centre).length() + rss.bounding_radius())
+    let upper = (d + (p - centre).length() + rss.corner_radius())
         .min(corner_bound(b, &corners, &candidates) + rss.radius);
     NodeProbe {
         upper,
