@@ -1,7 +1,9 @@
 //! Penetration depth on a torus knot and a turned copy pushed in by 5% of the radius, timed
 //! over several directions (for profiling): `profile_depth [n_u n_v] [fraction]`; with
 //! `MESH=file.obj`, that mesh instead of the knot (`n_u n_v` ignored); with `POINTWISE=rel`, the
-//! pointwise penetration depth (error `rel` times the radius) at the same poses instead.
+//! pointwise penetration depth (error `rel` times the radius) at the same poses instead; with
+//! `POSES=file`, the copy at the poses of that file (the grid's, `bench/surface_queries.py
+//! --grid --dump-poses DIR`) instead of the 24 built here.
 use std::time::Instant;
 use tocsin::{
     mesh, penetration_depth, pointwise_penetration, time_of_contact, ContactOptions, DepthOptions,
@@ -22,7 +24,7 @@ fn main() {
     let mut times = Vec::new();
     if let Ok(path) = std::env::var("POSES") {
         // Poses of mesh 2 from a file (mesh 1 at the identity): 12 numbers a line, the rows of
-        // the 3x4 matrix [R | t], as `bench/penetration_grid.py --dump-poses` writes them.
+        // the 3x4 matrix [R | t], as `bench/surface_queries.py --grid --dump-poses DIR` writes them.
         let text = std::fs::read_to_string(path).expect("poses file");
         for (k, line) in text.lines().enumerate() {
             let v: Vec<f64> = line
