@@ -50,6 +50,7 @@
 
 use std::collections::BinaryHeap;
 
+use crate::bvh::Node;
 use crate::error::OptionsError;
 use crate::math::{Pose, Vec3};
 use crate::query::penetration::surface::{
@@ -113,15 +114,22 @@ struct Inside<'a> {
     corners: Vec<([u64; 3], u8)>,
 }
 
-/// Entries of a search's corner table ([`Inside::corners`]).
+/// Entries of a search's corner table ([`Inside::corners`]), a power of two.
 const CORNERS: usize = 1024;
+const _: () = assert!(CORNERS.is_power_of_two());
 
-/// The slot of a point in the corner table, and its key.
+/// The slot of a point in the corner table (the top bits of a multiplicative hash of its
+/// coordinates), and its key.
 fn corner_slot(p: Vec3) -> (usize, [u64; 3]) {
     let key = [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()];
     let h = (key[0] ^ key[1].rotate_left(21) ^ key[2].rotate_left(42))
         .wrapping_mul(0x9E37_79B9_7F4A_7C15);
-    ((h >> 54) as usize % CORNERS, key)
+    ((h >> (64 - CORNERS.trailing_zeros())) as usize, key)
+}
+
+/// The triangle of A's leaf `node`, in B's frame.
+fn placed_leaf(a: &TriMesh, a_to_b: &Pose, node: &Node) -> [Vec3; 3] {
+    a.bvh().leaf_triangles()[node.leaf_position() as usize].map(|p| a_to_b.transform_point(p))
 }
 
 impl<'a> Inside<'a> {
@@ -335,9 +343,7 @@ impl<'a> Inside<'a> {
         [l, r].map(|c| {
             let node = &nodes[c as usize];
             if node.is_leaf() {
-                let t = a.bvh().leaf_triangles()[node.leaf_position() as usize]
-                    .map(|p| a_to_b.transform_point(p));
-                self.piece(t, tried, true, &mut None)
+                self.piece(placed_leaf(a, a_to_b, node), tried, true, &mut None)
             } else {
                 Some(self.inside_node(a, a_to_b, c, tried))
             }
@@ -356,8 +362,7 @@ impl<'a> Inside<'a> {
     ) -> [Option<Piece>; 2] {
         let node = &a.bvh().nodes()[i as usize];
         if node.is_leaf() {
-            let t = a.bvh().leaf_triangles()[node.leaf_position() as usize]
-                .map(|p| a_to_b.transform_point(p));
+            let t = placed_leaf(a, a_to_b, node);
             return [self.piece(t, tried, false, &mut None), None];
         }
         self.warm = tried[0];
@@ -383,6 +388,7 @@ impl<'a> Inside<'a> {
     fn open(&mut self, a: &TriMesh, a_to_b: &Pose, i: u32, stack: &mut Vec<u32>) -> Option<Piece> {
         let node = &a.bvh().nodes()[i as usize];
         let c = a_to_b.transform_point(node.rss.center);
+        let leaf = node.is_leaf().then(|| placed_leaf(a, a_to_b, node));
         // The last triangle of B a ball met starts the test, and the piece's bounds.
         let clear = match ball_meets_mesh(self.b_mesh.bvh(), c, node.rss.corner_radius(), self.warm)
         {
@@ -390,26 +396,20 @@ impl<'a> Inside<'a> {
                 self.warm = near;
                 false
             }
-            Ok(free) if node.is_leaf() => {
-                // A triangle clear of the surface: its corners may be known.
-                let t = a.bvh().leaf_triangles()[node.leaf_position() as usize]
-                    .map(|p| a_to_b.transform_point(p));
-                if !self.piece_side(&t, c, free) {
-                    return None;
-                }
-                true
-            }
             Ok(free) => {
-                if !self.side(c, free) {
+                // A triangle clear of the surface may have a corner whose side is known.
+                let is_in = match &leaf {
+                    Some(t) => self.piece_side(t, c, free),
+                    None => self.side(c, free),
+                };
+                if !is_in {
                     return None;
                 }
                 true
             }
         };
         let tried = [self.warm; 2];
-        if node.is_leaf() {
-            let t = a.bvh().leaf_triangles()[node.leaf_position() as usize]
-                .map(|p| a_to_b.transform_point(p));
+        if let Some(t) = leaf {
             if clear {
                 return self.piece(t, tried, true, &mut None);
             }
