@@ -196,6 +196,16 @@ pub fn run(path: &str) -> Result<Value, String> {
     let mut results = Vec::with_capacity(scene.queries.len());
     for (i, q) in scene.queries.iter().enumerate() {
         let at = |what: &str| format!("query {i} {what}");
+        // The two named meshes and their poses, checked in that order.
+        let placed =
+            |mesh1: &str, pose1: &Option<Vec<f64>>, mesh2: &str, pose2: &Option<Vec<f64>>| {
+                Ok::<_, String>((
+                    get(mesh1, i)?,
+                    pose(pose1, &at("pose1"))?,
+                    get(mesh2, i)?,
+                    pose(pose2, &at("pose2"))?,
+                ))
+            };
         let result = match q {
             Query::Distance {
                 mesh1,
@@ -209,14 +219,8 @@ pub fn run(path: &str) -> Result<Value, String> {
                     relative_error: *relative_error,
                     absolute_error: *absolute_error,
                 };
-                let r = distance(
-                    get(mesh1, i)?,
-                    &pose(pose1, &at("pose1"))?,
-                    get(mesh2, i)?,
-                    &pose(pose2, &at("pose2"))?,
-                    &opts,
-                )
-                .map_err(|e| format!("query {i}: {e}"))?;
+                let (m1, p1, m2, p2) = placed(mesh1, pose1, mesh2, pose2)?;
+                let r = distance(m1, &p1, m2, &p2, &opts).map_err(|e| format!("query {i}: {e}"))?;
                 distance_json(&r)
             }
             Query::Collide {
@@ -225,7 +229,8 @@ pub fn run(path: &str) -> Result<Value, String> {
                 pose1,
                 pose2,
             } => {
-                json!({ "collide": collide(get(mesh1, i)?, &pose(pose1, &at("pose1"))?, get(mesh2, i)?, &pose(pose2, &at("pose2"))?) })
+                let (m1, p1, m2, p2) = placed(mesh1, pose1, mesh2, pose2)?;
+                json!({ "collide": collide(m1, &p1, m2, &p2) })
             }
             Query::Within {
                 mesh1,
@@ -234,14 +239,9 @@ pub fn run(path: &str) -> Result<Value, String> {
                 pose2,
                 threshold,
             } => {
-                let w = within_distance(
-                    get(mesh1, i)?,
-                    &pose(pose1, &at("pose1"))?,
-                    get(mesh2, i)?,
-                    &pose(pose2, &at("pose2"))?,
-                    *threshold,
-                )
-                .map_err(|e| format!("query {i}: {e}"))?;
+                let (m1, p1, m2, p2) = placed(mesh1, pose1, mesh2, pose2)?;
+                let w = within_distance(m1, &p1, m2, &p2, *threshold)
+                    .map_err(|e| format!("query {i}: {e}"))?;
                 json!({ "within": w })
             }
             Query::ContactTime {
@@ -278,14 +278,9 @@ pub fn run(path: &str) -> Result<Value, String> {
                     tolerance: *tolerance,
                     ..Default::default()
                 };
-                let r = penetration_depth(
-                    get(mesh1, i)?,
-                    &pose(pose1, &at("pose1"))?,
-                    get(mesh2, i)?,
-                    &pose(pose2, &at("pose2"))?,
-                    &opts,
-                )
-                .map_err(|e| format!("query {i}: {e}"))?;
+                let (m1, p1, m2, p2) = placed(mesh1, pose1, mesh2, pose2)?;
+                let r = penetration_depth(m1, &p1, m2, &p2, &opts)
+                    .map_err(|e| format!("query {i}: {e}"))?;
                 depth_json(&r)
             }
             Query::Pointwise {
@@ -295,16 +290,10 @@ pub fn run(path: &str) -> Result<Value, String> {
                 pose2,
                 max_error,
             } => {
-                let (m1, m2) = (get(mesh1, i)?, get(mesh2, i)?);
+                let (m1, p1, m2, p2) = placed(mesh1, pose1, mesh2, pose2)?;
                 let e = max_error.unwrap_or_else(|| default_max_error(m1, m2));
-                let r = pointwise_penetration(
-                    m1,
-                    &pose(pose1, &at("pose1"))?,
-                    m2,
-                    &pose(pose2, &at("pose2"))?,
-                    e,
-                )
-                .map_err(|e| format!("query {i}: {e}"))?;
+                let r = pointwise_penetration(m1, &p1, m2, &p2, e)
+                    .map_err(|e| format!("query {i}: {e}"))?;
                 pointwise_json(&r)
             }
             Query::Hausdorff {
@@ -315,17 +304,10 @@ pub fn run(path: &str) -> Result<Value, String> {
                 max_error,
                 symmetric,
             } => {
-                let (m1, m2) = (get(mesh1, i)?, get(mesh2, i)?);
+                let (m1, p1, m2, p2) = placed(mesh1, pose1, mesh2, pose2)?;
                 let e = max_error.unwrap_or_else(|| default_max_error(m1, m2));
-                let r = hausdorff_distance(
-                    m1,
-                    &pose(pose1, &at("pose1"))?,
-                    m2,
-                    &pose(pose2, &at("pose2"))?,
-                    e,
-                    *symmetric,
-                )
-                .map_err(|e| format!("query {i}: {e}"))?;
+                let r = hausdorff_distance(m1, &p1, m2, &p2, e, *symmetric)
+                    .map_err(|e| format!("query {i}: {e}"))?;
                 hausdorff_json(&r)
             }
         };
