@@ -142,6 +142,15 @@ impl Rss {
         (h1 * h1 + h2 * h2).sqrt() + self.radius
     }
 
+    /// Half the width of the volume's projection on the unit `u` (the volume's frame): the
+    /// rectangle's reach along `u` plus the radius.
+    #[inline]
+    pub(crate) fn support(&self, u: Vec3) -> f64 {
+        self.half_lengths[0] * self.axes.x_axis.dot(u).abs()
+            + self.half_lengths[1] * self.axes.y_axis.dot(u).abs()
+            + self.radius
+    }
+
     /// A size used to choose which of two volumes to split first during traversal.
     #[inline]
     pub(crate) fn size(&self) -> f64 {

@@ -664,13 +664,8 @@ impl<'a> StepSearch<'a> {
     /// frame): `u . (centre_b - centre_a)` less both volumes' supports along `u`.
     #[inline]
     fn gap_along(&self, a: &crate::bvh::Rss, b: &crate::bvh::Rss, u: Vec3) -> f64 {
-        let support = |r: &crate::bvh::Rss, v: Vec3| {
-            r.half_lengths[0] * r.axes.x_axis.dot(v).abs()
-                + r.half_lengths[1] * r.axes.y_axis.dot(v).abs()
-                + r.radius
-        };
         let cb = self.rot12 * b.center + self.trans12;
-        u.dot(cb - a.center) - support(a, u) - support(b, self.rot21 * u)
+        u.dot(cb - a.center) - a.support(u) - b.support(self.rot21 * u)
     }
 
     /// A nearby triangle pair (leaf positions) at the current time: from the roots, always into

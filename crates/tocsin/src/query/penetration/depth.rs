@@ -87,6 +87,7 @@ use crate::error::ContactError;
 use crate::math::{Pose, Vec3};
 use crate::motion::Motion;
 use crate::query::collide::intersecting_leaves;
+use crate::query::contact_time::cast::difference_axes;
 use crate::query::contact_time::{
     advance, effective_tolerance, finish, ContactCache, ContactOptions, Ends, Path,
 };
@@ -260,8 +261,10 @@ fn out_project(
     for k in 1..=RAY_SAMPLES {
         let s = sample(far, k);
         if !penetrating(mesh1, pose1, mesh2, &shifted(pose2, d * s), &mut hint) {
-            return Ok(come_back(mesh1, pose1, mesh2, pose2, d, s, options)?
-                .map(|p| touch(mesh1, pose1, mesh2, p)));
+            return Ok(
+                come_back(mesh1, pose1, mesh2, pose2, (d, s), hint, options)?
+                    .map(|p| touch(mesh1, pose1, mesh2, p)),
+            );
         }
         if s >= beat {
             return Ok(None);
@@ -300,15 +303,12 @@ fn holds_until(
     let t1 = mesh1.bvh().leaf_triangles()[l1 as usize];
     let t2 = mesh2.bvh().leaf_triangles()[l2 as usize].map(|p| pos12.transform_point(p));
     let d1 = pose1.rotation.transpose() * d;
-    let edges = |t: &[Vec3; 3]| [t[1] - t[0], t[2] - t[1], t[0] - t[2]];
-    let (e1, e2) = (edges(&t1), edges(&t2));
-    let (n1, n2) = (e1[0].cross(e1[1]), e2[0].cross(e2[1]));
     let range = |t: &[Vec3; 3], a: Vec3| {
         let p = [t[0].dot(a), t[1].dot(a), t[2].dot(a)];
         (p[0].min(p[1]).min(p[2]), p[0].max(p[1]).max(p[2]))
     };
     let mut end = f64::INFINITY;
-    let mut axis = |a: Vec3| {
+    for (a, _) in difference_axes(&t1, &t2) {
         let ad = a.dot(d1);
         if ad > 0.0 {
             let ((_, hi1), (lo2, _)) = (range(&t1, a), range(&t2, a));
@@ -317,17 +317,6 @@ fn holds_until(
             let ((lo1, _), (_, hi2)) = (range(&t1, a), range(&t2, a));
             end = end.min((lo1 - hi2) / ad);
         }
-    };
-    axis(n1);
-    axis(n2);
-    for e in e1 {
-        axis(n1.cross(e));
-        for f in e2 {
-            axis(e.cross(f));
-        }
-    }
-    for f in e2 {
-        axis(n2.cross(f));
     }
     let h = end * (1.0 - 1e-9);
     if !(h.is_finite() && h > 0.0) {
@@ -355,13 +344,15 @@ fn shifted(pose2: &Pose, t: Vec3) -> Pose {
 }
 
 /// The continuous query of body 2 coming back from the free configuration `s0 d` to its pose.
+/// `seed`: a leaf pair that intersects on the way back (the direction's last penetrating
+/// sample's), which the query bounds first.
 fn come_back(
     mesh1: &TriMesh,
     pose1: &Pose,
     mesh2: &TriMesh,
     pose2: &Pose,
-    d: Vec3,
-    s0: f64,
+    (d, s0): (Vec3, f64),
+    seed: Option<(u32, u32)>,
     options: &ContactOptions,
 ) -> Result<Option<Pending>, ContactError> {
     let motion = match Motion::translation(shifted(pose2, d * s0), *pose2) {
@@ -369,7 +360,7 @@ fn come_back(
         Err(_) => return Ok(None),
     };
     let still = Motion::stationary(*pose1);
-    let mut cache = ContactCache::default();
+    let mut cache = ContactCache { pair: seed };
     // Every caller found the meshes apart at `s0` with the exact `collide` (or, polishing, at a
     // touching translation the advancement left apart): not asked again.
     Ok(
@@ -464,7 +455,7 @@ fn shortest_seeds(
             }
             #[cfg(test)]
             SEED_QUERIES.with(|c| c.set(c.get() + 1));
-            if let Some(p) = come_back(mesh1, pose1, mesh2, pose2, d, s, options)? {
+            if let Some(p) = come_back(mesh1, pose1, mesh2, pose2, (d, s), hints[i], options)? {
                 let key = (p.length(), i);
                 let at = kept.partition_point(|(j, q)| (q.length(), *j) <= key);
                 kept.insert(at, (i, p));
@@ -681,7 +672,7 @@ fn polish(
         tolerance: Some(fine),
         ..*options
     };
-    match come_back(mesh1, pose1, mesh2, pose2, d, s, &fine_options) {
+    match come_back(mesh1, pose1, mesh2, pose2, (d, s), None, &fine_options) {
         Ok(Some(p)) => {
             let c = complete(mesh1, pose1, mesh2, p);
             Ok(if c.translation.length() <= s { c } else { best })
