@@ -317,8 +317,7 @@ fn an_iteration_cap_is_an_error_not_a_contact() {
         "builtin:knot2.8k",
         "builtin:knot2.8k",
         "--motion1",
-        // A turn: bodies that only translate take one traversal, which no cap stops.
-        "screw:-12,0,0,0,0,0:12,0,0,0,0,1",
+        "translation:-12,0,0:12,0,0",
         "--max-iterations",
         "1",
     ]);

@@ -32,8 +32,7 @@ pub(crate) struct ContactResult {
     /// Triangle of mesh 2 holding point2.
     #[pyo3(get)]
     triangle2: usize,
-    /// Conservative-advancement iterations taken (1 when both bodies only translate: one
-    /// traversal answers; 0 for a start in contact).
+    /// Conservative-advancement iterations taken.
     #[pyo3(get)]
     iterations: usize,
     /// 'converged' or 'started_in_contact'.
@@ -113,7 +112,6 @@ pub(crate) fn contact_options(
 /// either in between. The tolerance defaults to 1e-3 of the smaller bounding radius (raised
 /// for degenerate meshes). Raises IterationLimitError when max_iterations (default 1000) runs
 /// out first: that is no contact, and the motion is only known free up to its time_reached.
-/// Two bodies that only translate are answered in one traversal, which no cap stops.
 #[pyfunction]
 #[pyo3(signature = (mesh1, motion1, mesh2, motion2, tolerance=None, max_iterations=None))]
 pub(crate) fn time_of_contact(

@@ -208,8 +208,7 @@ class ContactResult:
         """Triangle of mesh 2 holding point2."""
     @property
     def iterations(self) -> int:
-        """Conservative-advancement iterations taken (1 when both bodies only translate: one
-        traversal answers; 0 for a start in contact)."""
+        """Conservative-advancement iterations taken."""
     @property
     def status(self) -> Literal["converged", "started_in_contact"]:
         """How the query ended: 'converged' (within the tolerance at `time`) or
@@ -229,7 +228,6 @@ def time_of_contact(
     either in between. The tolerance defaults to 1e-3 of the smaller bounding radius (raised
     for degenerate meshes). Raises IterationLimitError when max_iterations (default 1000) runs
     out first: that is no contact, and the motion is only known free up to its time_reached.
-    Two bodies that only translate are answered in one traversal, which no cap stops.
     The GIL is released."""
 
 def motion_is_free(
