@@ -19,7 +19,11 @@
 //!    is beyond both bounding radii and the centres' distance, certainly apart), and body 2 is
 //!    translated straight back from there to where it is; the time of contact of that motion is
 //!    where it first touches body 1 coming from the free side: a collision-free, touching
-//!    translation `t = s d`. The shortest three are refined, or only the shortest when it is
+//!    translation `t = s d`. The motion is a pure translation, so the query is the cast of
+//!    `contact_time::cast` (one best-first traversal for the first pair within half the
+//!    tolerance, exact per triangle pair), seeded with the direction's last intersecting pair
+//!    (knot2.8k: 4%, 12% and 20% fewer instructions at 1%, 5% and 20% of the radius than the
+//!    advancement). The shortest three are refined, or only the shortest when it is
 //!    shorter than a tenth (`SHALLOW`) of the smaller bounding radius. Five savings change no
 //!    answer: a direction is dropped as soon as one of its samples still penetrates beyond the
 //!    third shortest translation found so far (the shortest, once shallow; the motion back from
@@ -89,7 +93,8 @@ use crate::motion::Motion;
 use crate::query::collide::intersecting_leaves;
 use crate::query::contact_time::cast::difference_axes;
 use crate::query::contact_time::{
-    advance, effective_tolerance, finish, ContactCache, ContactOptions, Ends, Path,
+    advance_short_translation, effective_tolerance, finish, ContactCache, ContactOptions, Ends,
+    Path,
 };
 use crate::query::distance::{distance_triangle_triangle, intersect_triangle_triangle};
 use crate::query::penetration::convex;
@@ -364,13 +369,15 @@ fn come_back(
     // Every caller found the meshes apart at `s0` with the exact `collide` (or, polishing, at a
     // touching translation the advancement left apart): not asked again.
     Ok(
-        advance(mesh1, &still, mesh2, &motion, options, &mut cache, true)?.map(|ends| Pending {
-            d,
-            s0,
-            motion,
-            ends,
-            cache,
-        }),
+        advance_short_translation(mesh1, &still, mesh2, &motion, options, &mut cache)?.map(
+            |ends| Pending {
+                d,
+                s0,
+                motion,
+                ends,
+                cache,
+            },
+        ),
     )
 }
 
