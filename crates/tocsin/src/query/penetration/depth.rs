@@ -22,7 +22,7 @@
 //!    translation `t = s d`. The motion is a pure translation, so the query is the cast of
 //!    `contact_time::cast` (one best-first traversal for the first pair within half the
 //!    tolerance, exact per triangle pair), seeded with the direction's last intersecting pair
-//!    (knot2.8k: 4%, 12% and 20% fewer instructions at 1%, 5% and 20% of the radius than the
+//!    (knot2.8k: 2%, 11% and 20% fewer instructions at 1%, 5% and 20% of the radius than the
 //!    advancement). The shortest three are refined, or only the shortest when it is
 //!    shorter than a tenth (`SHALLOW`) of the smaller bounding radius. Five savings change no
 //!    answer: a direction is dropped as soon as one of its samples still penetrates beyond the
