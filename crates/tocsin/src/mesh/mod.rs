@@ -28,6 +28,27 @@ pub struct TriMesh {
     winding: std::sync::OnceLock<Vec<crate::query::penetration::winding::Cluster>>,
     /// The mesh as a convex polytope (`None` when open or not convex), found on first use.
     polytope: std::sync::OnceLock<Option<crate::query::penetration::convex::Polytope>>,
+    /// Per leaf position, the leaf positions of the triangles sharing a vertex with it, found on
+    /// first use.
+    neighbours: std::sync::OnceLock<Neighbours>,
+}
+
+/// Leaf positions sharing a vertex with each leaf: `list[offsets[i]..offsets[i + 1]]`.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Neighbours {
+    offsets: Vec<u32>,
+    list: Vec<u32>,
+}
+
+impl Neighbours {
+    /// The neighbours of leaf position `leaf` (empty where out of range).
+    pub(crate) fn of(&self, leaf: u32) -> &[u32] {
+        let i = leaf as usize;
+        match (self.offsets.get(i), self.offsets.get(i + 1)) {
+            (Some(&a), Some(&b)) => &self.list[a as usize..b as usize],
+            _ => &[],
+        }
+    }
 }
 
 impl TriMesh {
@@ -43,6 +64,7 @@ impl TriMesh {
             bvh,
             winding: std::sync::OnceLock::new(),
             polytope: std::sync::OnceLock::new(),
+            neighbours: std::sync::OnceLock::new(),
         })
     }
 
@@ -64,6 +86,7 @@ impl TriMesh {
             bvh,
             winding: std::sync::OnceLock::new(),
             polytope: std::sync::OnceLock::new(),
+            neighbours: std::sync::OnceLock::new(),
         })
     }
 
@@ -91,6 +114,52 @@ impl TriMesh {
         self.polytope
             .get_or_init(|| crate::query::penetration::convex::polytope(self))
             .as_ref()
+    }
+
+    /// Per leaf position, the leaf positions of the triangles that share a vertex with it
+    /// (built on first use, then kept).
+    pub(crate) fn leaf_neighbours(&self) -> &Neighbours {
+        self.neighbours.get_or_init(|| {
+            let n = self.triangles.len();
+            let leaf_corners: Vec<[u32; 3]> = (0..n as u32)
+                .map(|leaf| self.triangles[self.bvh.triangle_index(leaf)])
+                .collect();
+            let corners = |leaf: u32| leaf_corners[leaf as usize];
+            // The leaves at each vertex, in one array (counted, then filled).
+            let mut start = vec![0u32; self.vertices.len() + 1];
+            for leaf in 0..n as u32 {
+                for v in corners(leaf) {
+                    start[v as usize + 1] += 1;
+                }
+            }
+            for i in 0..self.vertices.len() {
+                start[i + 1] += start[i];
+            }
+            let mut fill = start.clone();
+            let mut at_vertex = vec![0u32; start[self.vertices.len()] as usize];
+            for leaf in 0..n as u32 {
+                for v in corners(leaf) {
+                    at_vertex[fill[v as usize] as usize] = leaf;
+                    fill[v as usize] += 1;
+                }
+            }
+            let mut offsets = Vec::with_capacity(n + 1);
+            let mut list = Vec::with_capacity(at_vertex.len() * 2);
+            offsets.push(0);
+            for leaf in 0..n as u32 {
+                let first = list.len();
+                for v in corners(leaf) {
+                    let (a, b) = (start[v as usize] as usize, start[v as usize + 1] as usize);
+                    for &other in &at_vertex[a..b] {
+                        if other != leaf && !list[first..].contains(&other) {
+                            list.push(other);
+                        }
+                    }
+                }
+                offsets.push(list.len() as u32);
+            }
+            Neighbours { offsets, list }
+        })
     }
 
     /// The vertices and triangles of an OBJ, STL or PLY file, without building a mesh.
@@ -216,4 +285,53 @@ fn validate(
         }
     }
     Ok(())
+}
+#[cfg(test)]
+mod neighbour_tests {
+    use super::*;
+    use rand::{Rng, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
+
+    /// Every leaf's neighbours against brute force over all triangle pairs (the leaves whose
+    /// triangles share a vertex index with it, itself excluded, each once), on a knot and on
+    /// soups of few vertices with repeated corners (segments, points) and duplicated triangles.
+    #[test]
+    fn leaf_neighbours_match_brute_force() {
+        let mut rng = ChaCha8Rng::seed_from_u64(21);
+        let mut meshes = vec![crate::mesh::torus_knot(20, 5).expect("knot")];
+        for _ in 0..4 {
+            let vertices: Vec<Vec3> = (0..30)
+                .map(|_| Vec3::new(rng.random(), rng.random(), rng.random()))
+                .collect();
+            let mut triangles: Vec<[u32; 3]> = (0..60)
+                .map(|_| [0; 3].map(|_| rng.random_range(0..30u32)))
+                .collect();
+            triangles.push(triangles[0]);
+            meshes.push(TriMesh::new(vertices, triangles).expect("soup"));
+        }
+        let mut entries = 0;
+        for m in &meshes {
+            let bvh = m.bvh();
+            let n = m.triangles().len() as u32;
+            for leaf in 0..n {
+                let t = m.triangles()[bvh.triangle_index(leaf)];
+                let mut want: Vec<u32> = (0..n)
+                    .filter(|&o| {
+                        o != leaf
+                            && m.triangles()[bvh.triangle_index(o)]
+                                .iter()
+                                .any(|v| t.contains(v))
+                    })
+                    .collect();
+                let mut got = m.leaf_neighbours().of(leaf).to_vec();
+                assert_eq!(got.len(), want.len(), "leaf {leaf}: duplicates or misses");
+                got.sort_unstable();
+                want.sort_unstable();
+                assert_eq!(got, want, "leaf {leaf}");
+                entries += got.len();
+            }
+            assert!(m.leaf_neighbours().of(n).is_empty());
+        }
+        assert!(entries > 1000, "{entries} neighbour entries");
+    }
 }

@@ -23,8 +23,15 @@ pub fn collide(mesh1: &TriMesh, pose1: &Pose, mesh2: &TriMesh, pose2: &Pose) -> 
 /// [`collide`] that names the intersecting pair it found (leaf positions of the two
 /// hierarchies), trying `hint` (such a pair from a nearby configuration) first: the
 /// penetration depth's samples along a direction mostly keep one intersecting pair from one
-/// sample to the next. The same verdict as [`collide`]: a hinted pair counts only when the
-/// same exact test finds it intersecting at these poses.
+/// sample to the next. Where the hint no longer intersects, the curve where the surfaces cross
+/// has mostly moved onto a triangle next to it: each hinted triangle against the neighbours of
+/// the other (triangles sharing a vertex, [`TriMesh::leaf_neighbours`]), then the subtrees
+/// around the hint, then everything. Knot2.8k penetration depths: 5%, 21% and 23% fewer
+/// instructions at 1%, 5% and 20% of the radius than without the neighbours, the same depths
+/// bit for bit; edge neighbours only (sharing two vertices) took 2%, 15% and 13% off, the
+/// hierarchy's neighbouring leaf positions (no table) 4%, 6% and 4%. The same verdict as
+/// [`collide`]: a hinted pair counts only when the same exact test finds it intersecting at
+/// these poses.
 pub(crate) fn intersecting_leaves(
     mesh1: &TriMesh,
     pose1: &Pose,
@@ -39,9 +46,20 @@ pub(crate) fn intersecting_leaves(
             bvh2.leaf_triangles().get(l2 as usize),
         ) {
             let pos12 = pose1.inv_mul(pose2);
-            let t2 = t2.map(|p| pos12.rotation * p + pos12.translation);
+            let place = |t: &[Vec3; 3]| t.map(|p| pos12.rotation * p + pos12.translation);
+            let t2 = place(t2);
             if intersect_triangle_triangle(t1, &t2) {
                 return Some((l1, l2));
+            }
+            for &n1 in mesh1.leaf_neighbours().of(l1) {
+                if intersect_triangle_triangle(&bvh1.leaf_triangles()[n1 as usize], &t2) {
+                    return Some((n1, l2));
+                }
+            }
+            for &n2 in mesh2.leaf_neighbours().of(l2) {
+                if intersect_triangle_triangle(t1, &place(&bvh2.leaf_triangles()[n2 as usize])) {
+                    return Some((l1, n2));
+                }
             }
         }
     }
