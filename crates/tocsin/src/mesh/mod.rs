@@ -145,13 +145,16 @@ impl TriMesh {
             }
             let mut offsets = Vec::with_capacity(n + 1);
             let mut list = Vec::with_capacity(at_vertex.len() * 2);
+            // The leaf each other leaf was last listed for: each listed once per leaf.
+            let mut listed_for = vec![u32::MAX; n];
             offsets.push(0);
             for leaf in 0..n as u32 {
-                let first = list.len();
+                listed_for[leaf as usize] = leaf;
                 for v in corners(leaf) {
                     let (a, b) = (start[v as usize] as usize, start[v as usize + 1] as usize);
                     for &other in &at_vertex[a..b] {
-                        if other != leaf && !list[first..].contains(&other) {
+                        if listed_for[other as usize] != leaf {
+                            listed_for[other as usize] = leaf;
                             list.push(other);
                         }
                     }
