@@ -289,6 +289,7 @@ fn validate(
     }
     Ok(())
 }
+
 #[cfg(test)]
 mod neighbour_tests {
     use super::*;

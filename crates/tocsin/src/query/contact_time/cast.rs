@@ -34,9 +34,10 @@ pub(crate) struct Hit {
     pub pair: (u32, u32),
 }
 
-/// The time window `[lo, hi]` over which the intervals of two sets projected on `axis` overlap
-/// while body 2 moves by `t d`: the projections' centres `c1`, `c2`, their half widths `e`
-/// (summed, margin included), `w = axis . d`. Narrows `(lo, hi)`; false when it empties.
+/// Narrows the time window `[lo, hi]` to where two sets' projections on an axis overlap while
+/// body 2 moves by `t d`: `gap` is body 2's projected centre less body 1's at `t = 0`, `e` the
+/// two half widths summed (margin included), `w` the axis dotted with `d`. False when the
+/// window empties.
 #[inline]
 fn narrow(gap: f64, e: f64, w: f64, lo: &mut f64, hi: &mut f64) -> bool {
     // Overlap at t: -e <= gap + t w <= e.

@@ -87,8 +87,7 @@ pub struct ContactOptions {
     /// raised for degenerate meshes (points, segments) to `1e-6` of the larger radius and to
     /// `1e-12` of the scene scale.
     pub tolerance: Option<f64>,
-    /// Largest number of advancement iterations (>= 1). Default 1000. Two bodies that only
-    /// translate are answered in one traversal (one iteration), which the cap does not stop.
+    /// Largest number of advancement iterations (>= 1). Default 1000.
     pub max_iterations: usize,
 }
 
@@ -129,8 +128,7 @@ pub struct ContactTime {
     pub triangle1: usize,
     /// Triangle of mesh 2 holding `point2`.
     pub triangle2: usize,
-    /// Number of advancement iterations taken (1 when both bodies only translate: one
-    /// traversal answers; 0 for a start in contact).
+    /// Number of advancement iterations taken.
     pub iterations: usize,
     /// How the query ended.
     pub status: ContactStatus,
