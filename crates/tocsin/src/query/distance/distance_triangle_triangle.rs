@@ -109,15 +109,115 @@ fn edge_crossing(e: &[Vec3; 3], t: &[Vec3; 3], n: Option<Vec3>) -> Option<Vec3> 
 }
 
 /// Whether two triangles intersect (touching counts). Rejects quickly when one triangle lies
-/// strictly on one side of the other's plane, else defers to the exact distance.
+/// on one side of the other's plane by more than rounding; when each plane cuts the other
+/// triangle, compares the two segments where each triangle meets the other's plane along the
+/// planes' common line ([`crossing_intervals`]); defers to the exact distance (`distance ==
+/// 0`) whenever either test is within its rounding bound (a vertex near the other plane, a
+/// shared vertex, nearly parallel planes, degenerate triangles, touching within rounding), so
+/// the verdict is the distance's wherever the two could differ (the tests compare them).
 pub fn intersect_triangle_triangle(a: &[Vec3; 3], b: &[Vec3; 3]) -> bool {
-    let one_side = |t: &[Vec3; 3], other: &[Vec3; 3]| {
-        let n = (t[1] - t[0]).cross(t[2] - t[0]);
-        let d = other.map(|p| n.dot(p - t[0]));
-        (d[0] > 0.0 && d[1] > 0.0 && d[2] > 0.0) || (d[0] < 0.0 && d[1] < 0.0 && d[2] < 0.0)
+    // Triangle `t`'s normal, the other's vertices' signed distances to its plane (times the
+    // normal's length), and their rounding bound: the normal's is about the product of its
+    // edges' sizes, the differences' the coordinates' magnitude. `None`: all on one side by more
+    // than that (apart).
+    let plane = |t: &[Vec3; 3], o: &[Vec3; 3]| {
+        let (e1, e2) = (t[1] - t[0], t[2] - t[0]);
+        let n = e1.cross(e2);
+        let d = o.map(|p| n.dot(p - t[0]));
+        let scale = || {
+            let reach = o.iter().map(|p| p.abs().max_element()).fold(0.0, f64::max);
+            ROUNDING
+                * e1.abs().max_element().max(e2.abs().max_element()).powi(2)
+                * (reach + t[0].abs().max_element())
+        };
+        let (lo, hi) = (d[0].min(d[1]).min(d[2]), d[0].max(d[1]).max(d[2]));
+        if lo > 0.0 || hi < 0.0 {
+            let noise = scale();
+            if lo > noise || hi < -noise {
+                return None;
+            }
+            Some((n, d, noise))
+        } else {
+            Some((n, d, scale()))
+        }
     };
-    if one_side(a, b) || one_side(b, a) {
+    let Some((na, db, noise_b)) = plane(a, b) else {
         return false;
+    };
+    let Some((nb, da, noise_a)) = plane(b, a) else {
+        return false;
+    };
+    match crossing_intervals(a, b, (na, nb), (da, db), (noise_a, noise_b)) {
+        Some(verdict) => verdict,
+        None => distance_triangle_triangle(a, b).distance == 0.0,
     }
-    distance_triangle_triangle(a, b).distance == 0.0
+}
+
+/// Relative rounding bound of the intersection test's quantities (a wide margin over the
+/// few units of 2^-52 that each accumulates).
+const ROUNDING: f64 = 1e-12;
+
+/// The interval test of two triangles whose planes each cut the other triangle (Moller's,
+/// 1997): each triangle meets the other's plane in a segment on the planes' common line `L`;
+/// they intersect exactly when the two segments overlap. `n`: the (unnormalised) normals;
+/// `d`: each triangle's vertices' signed distances to the other's plane (times its normal's
+/// length), `noise` their rounding bounds. `None` when
+/// the answer is not certain in floating point: a vertex within rounding of the other plane
+/// (its side unsure), planes parallel within rounding, or segments overlapping or apart by
+/// less than the endpoints' rounding bound.
+fn crossing_intervals(
+    a: &[Vec3; 3],
+    b: &[Vec3; 3],
+    (na, nb): (Vec3, Vec3),
+    (da, db): ([f64; 3], [f64; 3]),
+    (noise_a, noise_b): (f64, f64),
+) -> Option<bool> {
+    let far = a
+        .iter()
+        .chain(b)
+        .map(|p| p.abs().max_element())
+        .fold(0.0, f64::max);
+    let line = na.cross(nb);
+    let (la, lb) = (na.length(), nb.length());
+    // Planes at an angle whose sine is below 1e-6 (or a degenerate triangle, or coordinates
+    // that are not finite): the distance.
+    let sine = line.length();
+    if sine.is_nan() || sine <= 1e-6 * la * lb {
+        return None;
+    }
+    // Each triangle's segment on L, as [lo, hi] of `line . x`, with its rounding bound.
+    let segment = |t: &[Vec3; 3], d: [f64; 3], noise: f64| -> Option<(f64, f64, f64)> {
+        if d.iter().any(|x| x.abs() <= noise) {
+            return None;
+        }
+        let p = t.map(|v| line.dot(v));
+        let (mut lo, mut hi, mut err) = (f64::INFINITY, f64::NEG_INFINITY, 0.0_f64);
+        for i in 0..3 {
+            let j = (i + 1) % 3;
+            if (d[i] > 0.0) != (d[j] > 0.0) {
+                let x = p[i] + (p[j] - p[i]) * (d[i] / (d[i] - d[j]));
+                lo = lo.min(x);
+                hi = hi.max(x);
+                // The projections' rounding (|line| <= la lb), and the crossing's shift along
+                // the edge by the distances' rounding.
+                err = err.max(
+                    4.0 * ROUNDING * la * lb * far
+                        + (p[j] - p[i]).abs() * 2.0 * noise / (d[i] - d[j]).abs(),
+                );
+            }
+        }
+        (lo <= hi).then_some((lo, hi, err))
+    };
+    let (lo_a, hi_a, err_a) = segment(a, da, noise_a)?;
+    let (lo_b, hi_b, err_b) = segment(b, db, noise_b)?;
+    // Apart by `gap` > 0, overlapping by -gap.
+    let gap = lo_a.max(lo_b) - hi_a.min(hi_b);
+    let bound = 2.0 * (err_a + err_b);
+    if gap > bound {
+        Some(false)
+    } else if gap < -bound {
+        Some(true)
+    } else {
+        None
+    }
 }
