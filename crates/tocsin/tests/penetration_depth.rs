@@ -343,3 +343,52 @@ fn shallow_depths_end_close() {
     }
     assert_eq!(checked, 6);
 }
+
+/// The search deals its seed directions and its starts to rayon's threads, sharing the
+/// translations kept: the answers are the same bit for bit on one thread and on three (knot
+/// pairs at several depths and turns, and a box inside a box).
+#[test]
+fn threads_change_no_answer() {
+    let knot = mesh::torus_knot(100, 8).unwrap();
+    let mut rng = common::rng(5);
+    let mut poses = Vec::new();
+    for case in 0..12 {
+        let axis = common::random_unit(&mut rng);
+        let shift = common::random_unit(&mut rng) * [0.05, 0.3, 1.0][case % 3];
+        poses.push(Pose {
+            rotation: Mat3::from_axis_angle(axis, 0.4 * case as f64),
+            translation: shift,
+        });
+    }
+    let answers = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| {
+            poses
+                .iter()
+                .map(|p2| {
+                    let r = penetration_depth(
+                        &knot,
+                        &Pose::IDENTITY,
+                        &knot,
+                        p2,
+                        &DepthOptions::default(),
+                    )
+                    .unwrap();
+                    (
+                        r.depth.to_bits(),
+                        r.translation,
+                        r.point1,
+                        r.iterations,
+                        r.status,
+                    )
+                })
+                .collect::<Vec<_>>()
+        })
+    };
+    let one = answers(1);
+    assert!(one.iter().filter(|a| f64::from_bits(a.0) > 0.0).count() >= 10);
+    assert_eq!(one, answers(3));
+}
