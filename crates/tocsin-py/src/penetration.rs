@@ -206,9 +206,7 @@ impl PenetrationResult {
 /// translation (on random overlapping boxes within 0.17% of the exact depth at the median,
 /// 1.9% at worst). Two closed convex meshes get the exact global depth instead (result.exact;
 /// exact_convex=False runs the local search on them too). `cached_direction` (3,) is tried first
-/// (coherence between frames). Status 'separated' (depth 0) when they do not penetrate. The
-/// search runs on the package's threads (RAYON_NUM_THREADS sets how many); the answer is the
-/// same on any number.
+/// (coherence between frames). Status 'separated' (depth 0) when they do not penetrate.
 #[pyfunction]
 #[pyo3(signature = (mesh1, pose1, mesh2, pose2, tolerance=None, max_iterations=None, directions=None, cached_direction=None, exact_convex=true))]
 #[allow(clippy::too_many_arguments)]
@@ -247,11 +245,9 @@ pub(crate) fn penetration_depth(
         exact_convex,
     };
     let (m1, m2) = (mesh1.inner.clone(), mesh2.inner.clone());
-    // The search runs its seed directions and starts in parallel: this process's pool.
-    let r = pool::run(py, || {
-        tocsin::penetration_depth(&m1, &p1, &m2, &p2, &options)
-    })?
-    .map_err(|e| contact_error(py, e))?;
+    let r = py
+        .detach(|| tocsin::penetration_depth(&m1, &p1, &m2, &p2, &options))
+        .map_err(|e| contact_error(py, e))?;
     Ok(PenetrationResult {
         depth: r.depth,
         iterations: r.iterations,

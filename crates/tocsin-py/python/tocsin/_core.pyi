@@ -531,8 +531,6 @@ def penetration_depth(
 
     After the translation the bodies do not intersect and are apart by at most
     ``min(tolerance, 1e-3 * depth)``; ``tolerance`` defaults to 1e-3 of the smaller radius.
-    The search runs on the package's threads (``RAYON_NUM_THREADS`` sets how many); the
-    answer is the same on any number.
     """
 
 @final

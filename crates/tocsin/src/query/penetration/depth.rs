@@ -76,17 +76,6 @@
 //!    tolerance `min(tolerance, 1e-3 depth)` (`polish`): the gap it leaves is then at most a
 //!    thousandth of the depth, not of the radius.
 //!
-//! **Threads.** The search runs on rayon's threads (on the calling pool's worker, else handed
-//! to rayon's global pool once; the Python binding runs it in its own fork-safe pool): the
-//! seed directions are dealt to the threads, each searching its share breadth first against
-//! the bound of the translations kept by all of them (one shared list), and the kept starts
-//! are completed and refined in parallel. Pruning only ever drops a direction that could not
-//! be kept, so the kept starts, and the answer, are the same bit for bit whatever the number
-//! of threads (tested). One parallel loop per round of samples was tried first: each waking
-//! of a sleeping thread costs about 20 us on the 2-core development machine, and the rounds'
-//! hand-offs ate most of the gain (knot2.8k at 20%: 2.3 -> 2.0 ms on two threads); the shares
-//! meet only at the kept list.
-//!
 //! Every `collide` of the samples first tries an intersecting triangle pair of a nearby
 //! configuration (that direction's previous sample; the pose's own at first): same verdicts,
 //! a quarter off knot2.8k at 1% of the radius; then each of its triangles against the other's
@@ -112,8 +101,6 @@ use crate::query::distance::{distance_triangle_triangle, intersect_triangle_tria
 use crate::query::penetration::convex;
 use crate::query::penetration::winding::inside;
 use crate::TriMesh;
-use rayon::prelude::*;
-use std::sync::Mutex;
 
 /// Options of [`penetration_depth`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -415,149 +402,83 @@ fn shortest_seeds(
     shallow: f64,
 ) -> Result<Vec<Pending>, ContactError> {
     let dirs: Vec<Option<Vec3>> = seeds.iter().map(|d| d.try_normalize()).collect();
-    let live: Vec<usize> = (0..dirs.len()).filter(|&i| dirs[i].is_some()).collect();
-    // The directions are dealt to rayon's threads, each searching its share breadth first
-    // against the bound of the translations kept by all of them.
-    let groups = rayon::current_num_threads().clamp(1, live.len().max(1));
-    let kept: Mutex<Vec<(usize, Pending)>> = Mutex::new(Vec::new());
-    let search = SeedSearch {
-        mesh1,
-        pose1,
-        mesh2,
-        pose2,
-        far,
-        options,
-        hint,
-        shallow,
-        dirs: &dirs,
-        kept: &kept,
+    // Each direction's last intersecting pair, the pose's own at first.
+    let mut hints = vec![hint; dirs.len()];
+    // Per direction, a shift its current intersecting pair meets at (-inf until computed).
+    let mut until = vec![f64::NEG_INFINITY; dirs.len()];
+    let mut alive: Vec<usize> = (0..dirs.len()).filter(|&i| dirs[i].is_some()).collect();
+    let mut kept: Vec<(usize, Pending)> = Vec::new();
+    let bound = |kept: &[(usize, Pending)]| match kept.first() {
+        Some((_, p)) if p.length() < shallow => p.length(),
+        _ if kept.len() < STARTS => f64::INFINITY,
+        _ => kept[STARTS - 1].1.length(),
     };
-    (0..groups)
-        .into_par_iter()
-        .map(|g| search.run(live.iter().copied().skip(g).step_by(groups).collect()))
-        .collect::<Result<Vec<()>, ContactError>>()?;
-    let mut kept = kept
-        .into_inner()
-        .unwrap_or_else(|poisoned| poisoned.into_inner());
+    for k in 1..=RAY_SAMPLES {
+        let s = sample(far, k);
+        // A freed direction's translation is longer than its last penetrating sample (below):
+        // at or beyond the bound, this round's samples cannot keep any direction whatever they
+        // show, and the search is over.
+        let last = if k > 1 { sample(far, k - 1) } else { 0.0 };
+        if last >= bound(&kept) {
+            break;
+        }
+        let mut still_alive = Vec::with_capacity(alive.len());
+        // The directions that free up at this sample: their continuous queries run after the
+        // round's samples, so that the round's other frees cannot be skipped by its samples
+        // alone (below).
+        let mut freed = Vec::new();
+        for &i in &alive {
+            let Some(d) = dirs[i] else { continue };
+            let before = hints[i];
+            if penetrating(mesh1, pose1, mesh2, &shifted(pose2, d * s), &mut hints[i]) {
+                // The direction's translation is longer than the shifts its intersecting pair
+                // still meets at (see `holds_until`): computed once per pair, and only once a
+                // bound is there to compare with.
+                let limit = bound(&kept);
+                if limit.is_finite() && (hints[i] != before || until[i] == f64::NEG_INFINITY) {
+                    until[i] = hints[i]
+                        .map_or(s, |h| holds_until(mesh1, pose1, mesh2, pose2, h, d).max(s));
+                }
+                if s <= limit && until[i] < limit {
+                    still_alive.push(i);
+                }
+            } else {
+                freed.push((i, d));
+            }
+        }
+        // A freed direction's touching translation is longer than its last penetrating sample
+        // (the motion back passes through it, and stops before any contact): at or beyond the
+        // third shortest (the shortest, once shallow), its query is skipped
+        // (knot2.8k at 1% and 5%: 4 to 6% fewer instructions, the same depths bit for bit).
+        for (i, d) in freed {
+            if last >= bound(&kept) {
+                break;
+            }
+            // Coming back from `s`, the bodies touch no later than where the direction's last
+            // intersecting pair starts to intersect again (a shift below `s`, which is free:
+            // anything else is rounding, and then nothing is skipped).
+            let until = hints[i].map_or(0.0, |h| holds_until(mesh1, pose1, mesh2, pose2, h, d));
+            if until < s && until >= bound(&kept) {
+                continue;
+            }
+            #[cfg(test)]
+            SEED_QUERIES.with(|c| c.set(c.get() + 1));
+            if let Some(p) = come_back(mesh1, pose1, mesh2, pose2, (d, s), hints[i], options)? {
+                let key = (p.length(), i);
+                let at = kept.partition_point(|(j, q)| (q.length(), *j) <= key);
+                kept.insert(at, (i, p));
+                kept.truncate(STARTS);
+            }
+        }
+        alive = still_alive;
+        if alive.is_empty() {
+            break;
+        }
+    }
     if kept.first().is_some_and(|(_, p)| p.length() < shallow) {
         kept.truncate(1);
     }
     Ok(kept.into_iter().map(|(_, p)| p).collect())
-}
-
-/// The seeds' search over a share of the directions ([`shortest_seeds`]), the kept
-/// translations shared by every share.
-struct SeedSearch<'a> {
-    mesh1: &'a TriMesh,
-    pose1: &'a Pose,
-    mesh2: &'a TriMesh,
-    pose2: &'a Pose,
-    far: f64,
-    options: &'a ContactOptions,
-    hint: Option<(u32, u32)>,
-    shallow: f64,
-    dirs: &'a [Option<Vec3>],
-    /// The shortest [`STARTS`] touching translations found so far, by length then direction.
-    kept: &'a Mutex<Vec<(usize, Pending)>>,
-}
-
-impl SeedSearch<'_> {
-    /// The third shortest translation kept (the shortest, once shallow); infinite before.
-    fn bound(&self) -> f64 {
-        let kept = self
-            .kept
-            .lock()
-            .unwrap_or_else(|poisoned| poisoned.into_inner());
-        match kept.first() {
-            Some((_, p)) if p.length() < self.shallow => p.length(),
-            _ if kept.len() < STARTS => f64::INFINITY,
-            _ => kept[STARTS - 1].1.length(),
-        }
-    }
-
-    /// Keeps direction `i`'s touching translation if it is among the shortest.
-    fn keep(&self, i: usize, p: Pending) {
-        let mut kept = self
-            .kept
-            .lock()
-            .unwrap_or_else(|poisoned| poisoned.into_inner());
-        let key = (p.length(), i);
-        let at = kept.partition_point(|(j, q)| (q.length(), *j) <= key);
-        kept.insert(at, (i, p));
-        kept.truncate(STARTS);
-    }
-
-    /// The breadth-first search of directions `alive` (see [`shortest_seeds`]).
-    fn run(&self, mut alive: Vec<usize>) -> Result<(), ContactError> {
-        let (mesh1, pose1, mesh2, pose2) = (self.mesh1, self.pose1, self.mesh2, self.pose2);
-        let n = self.dirs.len();
-        // Each direction's last intersecting pair, the pose's own at first.
-        let mut hints = vec![self.hint; n];
-        // Per direction, a shift its current intersecting pair meets at (-inf until computed).
-        let mut until = vec![f64::NEG_INFINITY; n];
-        for k in 1..=RAY_SAMPLES {
-            let s = sample(self.far, k);
-            // A freed direction's translation is longer than its last penetrating sample
-            // (below): at or beyond the bound, this round's samples cannot keep any direction
-            // whatever they show, and the search is over.
-            let last = if k > 1 { sample(self.far, k - 1) } else { 0.0 };
-            if last >= self.bound() {
-                break;
-            }
-            let mut still_alive = Vec::with_capacity(alive.len());
-            // The directions that free up at this sample: their continuous queries run after
-            // the round's samples, so that the round's other frees cannot be skipped by its
-            // samples alone (below).
-            let mut freed = Vec::new();
-            for &i in &alive {
-                let Some(d) = self.dirs[i] else { continue };
-                let before = hints[i];
-                if penetrating(mesh1, pose1, mesh2, &shifted(pose2, d * s), &mut hints[i]) {
-                    // The direction's translation is longer than the shifts its intersecting
-                    // pair still meets at (see `holds_until`): computed once per pair, and only
-                    // once a bound is there to compare with.
-                    let limit = self.bound();
-                    if limit.is_finite() && (hints[i] != before || until[i] == f64::NEG_INFINITY) {
-                        until[i] = hints[i]
-                            .map_or(s, |h| holds_until(mesh1, pose1, mesh2, pose2, h, d).max(s));
-                    }
-                    if s <= limit && until[i] < limit {
-                        still_alive.push(i);
-                    }
-                } else {
-                    freed.push((i, d));
-                }
-            }
-            // A freed direction's touching translation is longer than its last penetrating
-            // sample (the motion back passes through it, and stops before any contact): at or
-            // beyond the third shortest (the shortest, once shallow), its query is skipped
-            // (knot2.8k at 1% and 5%: 4 to 6% fewer instructions, the same depths bit for bit).
-            for (i, d) in freed {
-                if last >= self.bound() {
-                    break;
-                }
-                // Coming back from `s`, the bodies touch no later than where the direction's
-                // last intersecting pair starts to intersect again (a shift below `s`, which is
-                // free: anything else is rounding, and then nothing is skipped).
-                let until = hints[i].map_or(0.0, |h| holds_until(mesh1, pose1, mesh2, pose2, h, d));
-                if until < s && until >= self.bound() {
-                    continue;
-                }
-                #[cfg(test)]
-                SEED_QUERIES.with(|c| c.set(c.get() + 1));
-                if let Some(p) =
-                    come_back(mesh1, pose1, mesh2, pose2, (d, s), hints[i], self.options)?
-                {
-                    self.keep(i, p);
-                }
-            }
-            alive = still_alive;
-            if alive.is_empty() {
-                break;
-            }
-        }
-        Ok(())
-    }
 }
 
 /// An out-projection's touching translation with the normal and witnesses of the triangle
@@ -783,16 +704,6 @@ const STARTS: usize = 3;
 /// all three starts.
 const SHALLOW: f64 = 0.1;
 
-/// Runs `work` on a rayon worker thread: here when this thread is one, else on rayon's global
-/// pool, the caller waiting.
-fn on_worker<R: Send>(work: impl FnOnce() -> R + Send) -> R {
-    if rayon::current_thread_index().is_some() {
-        work()
-    } else {
-        rayon::scope(|_| work())
-    }
-}
-
 /// Translational penetration depth of `mesh2` (placed by `pose2`) into `mesh1` (module docs).
 ///
 /// # Errors
@@ -885,68 +796,60 @@ pub fn penetration_depth(
         }
     }
     seeds.extend(sphere_directions(options.directions));
-    // The search's loops run in parallel on rayon's threads: on a worker of the pool it is
-    // called from, else handed to rayon's global pool once (a parallel loop started from
-    // outside a pool pays that hand-off each time).
-    on_worker(|| {
-        let kept = shortest_seeds(
+    let kept = shortest_seeds(
+        mesh1,
+        pose1,
+        mesh2,
+        pose2,
+        &seeds,
+        far,
+        &contact_options,
+        hint,
+        SHALLOW * mesh1.bounding_radius().min(mesh2.bounding_radius()),
+    )?;
+    let touches: Vec<Touch> = kept
+        .into_iter()
+        .map(|p| complete(mesh1, pose1, mesh2, p))
+        .collect();
+    let mut result: Option<(Touch, usize, DepthStatus)> = None;
+    for start in touches {
+        let (t, iterations, status) = refine(
             mesh1,
             pose1,
             mesh2,
             pose2,
-            &seeds,
+            start,
             far,
             &contact_options,
+            options.max_iterations,
             hint,
-            SHALLOW * mesh1.bounding_radius().min(mesh2.bounding_radius()),
         )?;
-        // The starts are completed (their witnesses) and refined independently: in parallel on
-        // rayon's threads; the shortest wins, the first in seed order on a tie.
-        let refined: Vec<(Touch, usize, DepthStatus)> = kept
-            .into_par_iter()
-            .map(|p| {
-                refine(
-                    mesh1,
-                    pose1,
-                    mesh2,
-                    pose2,
-                    complete(mesh1, pose1, mesh2, p),
-                    far,
-                    &contact_options,
-                    options.max_iterations,
-                    hint,
-                )
-            })
-            .collect::<Result<_, _>>()?;
-        let mut result: Option<(Touch, usize, DepthStatus)> = None;
-        for (t, iterations, status) in refined {
-            if result
-                .as_ref()
-                .is_none_or(|r| t.translation.length() < r.0.translation.length())
-            {
-                result = Some((t, iterations, status));
-            }
+        if result
+            .as_ref()
+            .is_none_or(|r| t.translation.length() < r.0.translation.length())
+        {
+            result = Some((t, iterations, status));
         }
-        let Some((best, iterations, status)) = result else {
-            // Every direction failed (degenerate input): report no separating translation found.
-            return Err(ContactError::IterationLimit {
-                iterations: 0,
-                time_reached: 0.0,
-            });
-        };
-        let best = polish(mesh1, pose1, mesh2, pose2, best, &contact_options)?;
-        let best = exact(mesh1, pose1, mesh2, best);
-        let depth = best.translation.length();
-        Ok(PenetrationDepth {
-            depth,
-            translation: best.translation,
-            direction: best.translation.try_normalize().unwrap_or(Vec3::Z),
-            point1: best.point1,
-            point2: best.point2,
-            iterations,
-            status,
-            exact: false,
-        })
+    }
+    let Some((best, iterations, status)) = result else {
+        // Every direction failed (degenerate input): report no separating translation found.
+        return Err(ContactError::IterationLimit {
+            iterations: 0,
+            time_reached: 0.0,
+        });
+    };
+    let best = polish(mesh1, pose1, mesh2, pose2, best, &contact_options)?;
+    let best = exact(mesh1, pose1, mesh2, best);
+    let depth = best.translation.length();
+    Ok(PenetrationDepth {
+        depth,
+        translation: best.translation,
+        direction: best.translation.try_normalize().unwrap_or(Vec3::Z),
+        point1: best.point1,
+        point2: best.point2,
+        iterations,
+        status,
+        exact: false,
     })
 }
 
@@ -994,14 +897,8 @@ mod tests {
             PAIR_BOUNDS.with(|c| c.set(true));
             (answers, SEED_QUERIES.with(|c| c.get()))
         };
-        // On one thread (the search's own when called from a pool's worker), where the
-        // switch and the counter above live.
-        let one = rayon::ThreadPoolBuilder::new()
-            .num_threads(1)
-            .build()
-            .expect("pool");
-        let (with, fewer) = one.install(|| queries(true));
-        let (without, all) = one.install(|| queries(false));
+        let (with, fewer) = queries(true);
+        let (without, all) = queries(false);
         assert_eq!(with, without);
         assert!(
             fewer < all,
