@@ -64,7 +64,12 @@ pub(crate) fn intersecting_leaves(
         }
     }
     // Then the subtrees of the hint's neighbourhood, then everything.
-    let starts = hint.map(|(l1, l2)| (ancestor(bvh1, l1, LOCAL), ancestor(bvh2, l2, LOCAL)));
+    let starts = hint.map(|(l1, l2)| {
+        (
+            ancestor(bvh1, l1, local(mesh1)),
+            ancestor(bvh2, l2, local(mesh2)),
+        )
+    });
     for start in starts.into_iter().chain([(0, 0)]) {
         let mut found = None;
         traverse(mesh1, pose1, mesh2, pose2, start, &mut |l1, l2| {
@@ -79,11 +84,18 @@ pub(crate) fn intersecting_leaves(
 }
 
 /// Triangles (on each side) of the neighbourhood around a hint that [`intersecting_leaves`]
-/// searches before the whole hierarchies. Measured on knot2.8k penetration depths at 1% and
-/// 20% of the radius (`examples/profile_depth.rs`): the search after a missed hint took
-/// 8.3 / 10.9 us on average from the roots, 5.4 / 7.4 us with 64, 5.5 / 8.1 with 16, 6.2 / 8.1
-/// with 256, 11.5 / 10.7 with 1024 (one noisy run each).
-const LOCAL: usize = 64;
+/// searches before the whole hierarchies: a 256th of the mesh, from 8 to 64. Measured on
+/// penetration depths (`examples/profile_depth.rs`, 24 queries at 1%, 5% and 20% of the
+/// radius, callgrind), after the vertex neighbours and with 128 samples per direction: a fixed
+/// 64 against 8 / 16 took knot2.8k 88.2M / 102.5M / 356.7M against 83.3M / 99.6M / 345.4M and
+/// 83.5M / 99.8M / 346.5M (4, 32 and 256 no better), bunny 78.0M / 98.6M / 300.7M against
+/// 72.2M / 94.7M / 292.8M (8), but knot34k 188.7M / 238.5M / 987.5M against 190.3M / 248.0M /
+/// 1,072.2M (8) and 189.4M / 243.1M / 1,039.8M (16): on a large mesh a small neighbourhood
+/// misses more often, and the search from the roots costs more there. (Before the vertex
+/// neighbours, on knot2.8k: 64 best, 16 and 256 a little slower, 1,024 twice as slow.)
+fn local(mesh: &TriMesh) -> usize {
+    (mesh.num_triangles() / 256).clamp(8, 64)
+}
 
 /// The largest subtree of at most `max` triangles holding leaf position `leaf` (the leaf's
 /// node when `max` is 0 or 1).
