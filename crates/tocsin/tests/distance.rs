@@ -94,11 +94,12 @@ fn coplanar_crossing_edges_are_in_contact() {
 /// random pairs of every kind above at scales 1e-6 to 1e6 and far from the origin, and pairs
 /// built to touch or nearly touch (a vertex on the other plane inside the other triangle, an
 /// edge crossing an edge, then moved by a few rounding units either way); and on the pairs
-/// that are clearly apart or clearly crossing it agrees with the independent formulation.
+/// that are clearly apart or clearly crossing it agrees with the independent formulation
+/// (counted: both kinds occur).
 #[test]
 fn intersection_test_gives_the_distance_verdict() {
     let mut rng = rng(21);
-    let (mut hits, mut misses) = (0, 0);
+    let (mut hits, mut misses, mut crossing) = (0, 0, 0);
     for scale in [1e-6, 1e-3, 1.0, 1e3, 1e6] {
         for offset in [0.0, 1e3] {
             for case in 0..4000 {
@@ -135,15 +136,15 @@ fn intersection_test_gives_the_distance_verdict() {
                     fast, slow,
                     "case {case} scale {scale} offset {offset}: {a:?} {b:?}"
                 );
+                // The independent formulation where the answer is clear: apart by more than
+                // rounding, or an edge crossing the other triangle in a generic pair (not built
+                // to touch, no shared vertex, segment, point or collinear corners).
                 let o = oracle_triangle_distance(&a, &b);
-                if o > 1e-6 * scale
-                    || (o == 0.0 && distance_triangle_triangle(&a, &b).distance == 0.0)
-                {
-                    assert_eq!(
-                        fast,
-                        o == 0.0,
-                        "against the oracle: case {case} {a:?} {b:?}"
-                    );
+                if o > 1e-6 * scale {
+                    assert!(!fast, "apart by {o}: case {case} {a:?} {b:?}");
+                } else if o == 0.0 && case % 5 != 4 && matches!(case % 8, 0 | 7) {
+                    assert!(fast, "crossing: case {case} {a:?} {b:?}");
+                    crossing += 1;
                 }
                 if fast {
                     hits += 1;
@@ -154,8 +155,8 @@ fn intersection_test_gives_the_distance_verdict() {
         }
     }
     assert!(
-        hits > 5000 && misses > 5000,
-        "{hits} intersecting, {misses} apart"
+        hits > 5000 && misses > 5000 && crossing > 1000,
+        "{hits} intersecting ({crossing} generic crossings), {misses} apart"
     );
 }
 
