@@ -54,7 +54,7 @@ fn narrow(gap: f64, e: f64, w: f64, lo: &mut f64, hi: &mut f64) -> bool {
 /// The 17 directions among which the facet normals of the Minkowski difference of triangles `p`
 /// and `q` lie (module docs), unnormalised, each with the product of its factors' lengths: an
 /// axis much shorter than that is rounding, not a direction.
-pub(crate) fn difference_axes(p: &[Vec3; 3], q: &[Vec3; 3]) -> [(Vec3, f64); 17] {
+fn difference_axes(p: &[Vec3; 3], q: &[Vec3; 3]) -> [(Vec3, f64); 17] {
     let e = [p[1] - p[0], p[2] - p[1], p[0] - p[2]];
     let f = [q[1] - q[0], q[2] - q[1], q[0] - q[2]];
     let (el, fl) = (e.map(|v| v.length()), f.map(|v| v.length()));
@@ -83,7 +83,20 @@ pub(crate) fn triangle_bound(
     margin: f64,
     hi: f64,
 ) -> Option<f64> {
-    let (mut lo, mut hi) = (0.0, hi);
+    triangle_window(p, q, d, margin, (0.0, hi)).map(|(lo, _)| lo)
+}
+
+/// The times within `[lo, hi]` at which triangles `p` and `q` (body 1's frame, `q` at `t = 0`),
+/// widened by `margin`, overlap on every axis of [`difference_axes`] while `q` moves by `t d`:
+/// where they intersect, for triangles whose difference has its facets among the axes (module
+/// docs), a superset otherwise (a degenerate triangle's missing axes); `None` when empty.
+pub(crate) fn triangle_window(
+    p: &[Vec3; 3],
+    q: &[Vec3; 3],
+    d: Vec3,
+    margin: f64,
+    (mut lo, mut hi): (f64, f64),
+) -> Option<(f64, f64)> {
     for (u, scale) in difference_axes(p, q) {
         let len = u.length();
         if len.is_nan() || len <= AXIS_RESOLUTION * scale {
@@ -100,7 +113,7 @@ pub(crate) fn triangle_bound(
             return None;
         }
     }
-    Some(lo)
+    Some((lo, hi))
 }
 
 /// The length, relative to its factors' product, below which a cross product is taken for

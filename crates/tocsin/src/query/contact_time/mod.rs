@@ -246,13 +246,35 @@ pub(crate) fn advance(
     start_free: bool,
 ) -> Result<Option<Ends>, ContactError> {
     let delta = validate(mesh1, motion1, mesh2, motion2, options)?;
-    let resolution = NORMAL_RESOLUTION * scene_scale(mesh1, motion1, mesh2, motion2);
+    let scale = scene_scale(mesh1, motion1, mesh2, motion2);
+    advance_validated(
+        mesh1,
+        motion1,
+        mesh2,
+        motion2,
+        (delta, scale, options.max_iterations),
+        cache,
+        start_free,
+    )
+}
+
+/// [`advance`] once the options are checked: tolerance `delta`, scene scale `scale`, the
+/// iteration cap.
+fn advance_validated(
+    mesh1: &TriMesh,
+    motion1: &Motion,
+    mesh2: &TriMesh,
+    motion2: &Motion,
+    (delta, scale, max_iterations): (f64, f64, usize),
+    cache: &mut ContactCache,
+    start_free: bool,
+) -> Result<Option<Ends>, ContactError> {
     let span = Span {
         start: 0.0,
         end: 1.0,
         delta,
-        resolution,
-        max_iterations: options.max_iterations,
+        resolution: NORMAL_RESOLUTION * scale,
+        max_iterations,
         first_window: 1.0,
         slack: (FAR_SLACK, NEAR_SLACK),
         start_free,
@@ -290,7 +312,16 @@ pub(crate) fn advance_short_translation(
             return Ok(answer);
         }
     }
-    advance(mesh1, motion1, mesh2, motion2, options, cache, true)
+    // The options were checked above: not again.
+    advance_validated(
+        mesh1,
+        motion1,
+        mesh2,
+        motion2,
+        (delta, scale, options.max_iterations),
+        cache,
+        true,
+    )
 }
 
 /// The advancement's answer for two bodies that keep their rotations (body 2 translates

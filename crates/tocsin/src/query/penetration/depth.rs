@@ -92,7 +92,7 @@ use crate::error::ContactError;
 use crate::math::{Pose, Vec3};
 use crate::motion::Motion;
 use crate::query::collide::intersecting_leaves;
-use crate::query::contact_time::cast::difference_axes;
+use crate::query::contact_time::cast::triangle_window;
 use crate::query::contact_time::{
     advance_short_translation, effective_tolerance, finish, ContactCache, ContactOptions, Ends,
     Path,
@@ -309,21 +309,12 @@ fn holds_until(
     let t1 = mesh1.bvh().leaf_triangles()[l1 as usize];
     let t2 = mesh2.bvh().leaf_triangles()[l2 as usize].map(|p| pos12.transform_point(p));
     let d1 = pose1.rotation.transpose() * d;
-    let range = |t: &[Vec3; 3], a: Vec3| {
-        let p = [t[0].dot(a), t[1].dot(a), t[2].dot(a)];
-        (p[0].min(p[1]).min(p[2]), p[0].max(p[1]).max(p[2]))
+    // The shifts at which the pair overlaps on every separating axis, from 0 (it intersects
+    // there); a degenerate triangle's missing axes can overstate the end, which the exact test
+    // below catches.
+    let Some((_, end)) = triangle_window(&t1, &t2, d1, 0.0, (0.0, f64::INFINITY)) else {
+        return 0.0;
     };
-    let mut end = f64::INFINITY;
-    for (a, _) in difference_axes(&t1, &t2) {
-        let ad = a.dot(d1);
-        if ad > 0.0 {
-            let ((_, hi1), (lo2, _)) = (range(&t1, a), range(&t2, a));
-            end = end.min((hi1 - lo2) / ad);
-        } else if ad < 0.0 {
-            let ((lo1, _), (_, hi2)) = (range(&t1, a), range(&t2, a));
-            end = end.min((lo1 - hi2) / ad);
-        }
-    }
     let h = end * (1.0 - 1e-9);
     if !(h.is_finite() && h > 0.0) {
         return 0.0;
