@@ -116,41 +116,54 @@ fn edge_crossing(e: &[Vec3; 3], t: &[Vec3; 3], n: Option<Vec3>) -> Option<Vec3> 
 /// shared vertex, nearly parallel planes, degenerate triangles, touching within rounding), so
 /// the verdict is the distance's wherever the two could differ (the tests compare them).
 pub fn intersect_triangle_triangle(a: &[Vec3; 3], b: &[Vec3; 3]) -> bool {
-    // Triangle `t`'s normal, the other's vertices' signed distances to its plane (times the
-    // normal's length), and their rounding bound: the normal's is about the product of its
-    // edges' sizes, the differences' the coordinates' magnitude. `None`: all on one side by more
-    // than that (apart).
-    let plane = |t: &[Vec3; 3], o: &[Vec3; 3]| {
-        let (e1, e2) = (t[1] - t[0], t[2] - t[0]);
-        let n = e1.cross(e2);
-        let d = o.map(|p| n.dot(p - t[0]));
-        let scale = || {
-            let reach = o.iter().map(|p| p.abs().max_element()).fold(0.0, f64::max);
-            ROUNDING
-                * e1.abs().max_element().max(e2.abs().max_element()).powi(2)
-                * (reach + t[0].abs().max_element())
-        };
-        let (lo, hi) = (d[0].min(d[1]).min(d[2]), d[0].max(d[1]).max(d[2]));
-        if lo > 0.0 || hi < 0.0 {
-            let noise = scale();
-            if lo > noise || hi < -noise {
-                return None;
-            }
-            Some((n, d, noise))
-        } else {
-            Some((n, d, scale()))
-        }
-    };
-    let Some((na, db, noise_b)) = plane(a, b) else {
+    let Some((na, db, noise_b)) = plane_sides(a, b) else {
         return false;
     };
-    let Some((nb, da, noise_a)) = plane(b, a) else {
+    let Some((nb, da, noise_a)) = plane_sides(b, a) else {
         return false;
     };
     match crossing_intervals(a, b, (na, nb), (da, db), (noise_a, noise_b)) {
         Some(verdict) => verdict,
         None => distance_triangle_triangle(a, b).distance == 0.0,
     }
+}
+
+/// The larger of two numbers (plain comparison: the callers' NaNs end in the distance).
+#[inline(always)]
+fn larger(x: f64, y: f64) -> f64 {
+    if x > y {
+        x
+    } else {
+        y
+    }
+}
+
+/// The largest absolute coordinate of `p`.
+#[inline(always)]
+fn reach(p: Vec3) -> f64 {
+    larger(larger(p.x.abs(), p.y.abs()), p.z.abs())
+}
+
+/// Triangle `t`'s normal, the other triangle's vertices' signed distances to its plane (times
+/// the normal's length), and their rounding bound: the normal's is about the product of its
+/// edges' sizes, the differences' the coordinates' magnitude. `None`: all on one side by more
+/// than that (apart).
+#[inline(always)]
+fn plane_sides(t: &[Vec3; 3], o: &[Vec3; 3]) -> Option<(Vec3, [f64; 3], f64)> {
+    let (e1, e2) = (t[1] - t[0], t[2] - t[0]);
+    let n = e1.cross(e2);
+    let d = [n.dot(o[0] - t[0]), n.dot(o[1] - t[0]), n.dot(o[2] - t[0])];
+    let edge = larger(reach(e1), reach(e2));
+    let noise = ROUNDING
+        * edge
+        * edge
+        * (larger(larger(reach(o[0]), reach(o[1])), reach(o[2])) + reach(t[0]));
+    if (d[0] > noise && d[1] > noise && d[2] > noise)
+        || (d[0] < -noise && d[1] < -noise && d[2] < -noise)
+    {
+        return None;
+    }
+    Some((n, d, noise))
 }
 
 /// Relative rounding bound of the intersection test's quantities (a wide margin over the
@@ -172,37 +185,36 @@ fn crossing_intervals(
     (da, db): ([f64; 3], [f64; 3]),
     (noise_a, noise_b): (f64, f64),
 ) -> Option<bool> {
-    let far = a
-        .iter()
-        .chain(b)
-        .map(|p| p.abs().max_element())
-        .fold(0.0, f64::max);
+    let far = larger(
+        larger(larger(reach(a[0]), reach(a[1])), reach(a[2])),
+        larger(larger(reach(b[0]), reach(b[1])), reach(b[2])),
+    );
     let line = na.cross(nb);
-    let (la, lb) = (na.length(), nb.length());
+    let lalb_sq = na.length_squared() * nb.length_squared();
     // Planes at an angle whose sine is below 1e-6 (or a degenerate triangle, or coordinates
     // that are not finite): the distance.
-    let sine = line.length();
-    if sine.is_nan() || sine <= 1e-6 * la * lb {
+    let sine_sq = line.length_squared();
+    if sine_sq.is_nan() || sine_sq <= 1e-12 * lalb_sq {
         return None;
     }
+    // The projections' rounding (|line| <= |na| |nb|).
+    let projection_err = 4.0 * ROUNDING * lalb_sq.sqrt() * far;
     // Each triangle's segment on L, as [lo, hi] of `line . x`, with its rounding bound.
     let segment = |t: &[Vec3; 3], d: [f64; 3], noise: f64| -> Option<(f64, f64, f64)> {
-        if d.iter().any(|x| x.abs() <= noise) {
+        if d[0].abs() <= noise || d[1].abs() <= noise || d[2].abs() <= noise {
             return None;
         }
-        let p = t.map(|v| line.dot(v));
+        let p = [line.dot(t[0]), line.dot(t[1]), line.dot(t[2])];
         let (mut lo, mut hi, mut err) = (f64::INFINITY, f64::NEG_INFINITY, 0.0_f64);
-        for i in 0..3 {
-            let j = (i + 1) % 3;
+        for (i, j) in [(0, 1), (1, 2), (2, 0)] {
             if (d[i] > 0.0) != (d[j] > 0.0) {
                 let x = p[i] + (p[j] - p[i]) * (d[i] / (d[i] - d[j]));
-                lo = lo.min(x);
-                hi = hi.max(x);
-                // The projections' rounding (|line| <= la lb), and the crossing's shift along
-                // the edge by the distances' rounding.
-                err = err.max(
-                    4.0 * ROUNDING * la * lb * far
-                        + (p[j] - p[i]).abs() * 2.0 * noise / (d[i] - d[j]).abs(),
+                lo = if x < lo { x } else { lo };
+                hi = larger(hi, x);
+                // The crossing's shift along the edge by the distances' rounding.
+                err = larger(
+                    err,
+                    projection_err + (p[j] - p[i]).abs() * 2.0 * noise / (d[i] - d[j]).abs(),
                 );
             }
         }
@@ -211,7 +223,7 @@ fn crossing_intervals(
     let (lo_a, hi_a, err_a) = segment(a, da, noise_a)?;
     let (lo_b, hi_b, err_b) = segment(b, db, noise_b)?;
     // Apart by `gap` > 0, overlapping by -gap.
-    let gap = lo_a.max(lo_b) - hi_a.min(hi_b);
+    let gap = larger(lo_a, lo_b) - if hi_a < hi_b { hi_a } else { hi_b };
     let bound = 2.0 * (err_a + err_b);
     if gap > bound {
         Some(false)
