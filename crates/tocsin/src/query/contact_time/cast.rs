@@ -185,6 +185,10 @@ pub(crate) fn first_hit(
             // corners' projection) at the rate -u . d.
             let g = bounds.gap[k] - margin;
             let mut t = if g > 0.0 { g / speed } else { 0.0 };
+            // Pruned by the distance alone: the directional bound could only prune it more.
+            if t >= limit && best.is_some() {
+                continue;
+            }
             let u = Vec3::new(bounds.axis[0][k], bounds.axis[1][k], bounds.axis[2][k]);
             if u != Vec3::ZERO {
                 let cb = rot * b.rss.center + trans;
