@@ -32,15 +32,16 @@
 //! on the benchmark's knot against a moved copy, the same values (docs/BENCHMARKS.md, ninth
 //! session).
 //!
-//! A whole triangle of A that its candidates leave above `L + e` also tries the vertex
-//! neighbours of its nearest triangle of B: the two whose farthest distance from its corners is
-//! smallest join the envelope. Where B is A moved a little (a simplified or perturbed copy: the
-//! benchmark's hard case, every point near the maximum), the moved copy of the triangle is
-//! among them, and it bounds the triangle by the move, about the maximum, without splitting it
-//! (knot2.8k against its copy moved by (0.3, 0.1, 0.05), instructions per symmetric query at
-//! errors 1e-2 / 1e-3 / 1e-4 R: 67.5M / 114.6M / 132.4M -> 63.6M / 82.0M / 84.6M; against
-//! turned copies, where it seldom settles a piece, 7.8M / 10.3M / 10.7M -> 7.8M / 10.6M /
-//! 11.1M). Sub-triangles do not try it: their parent did.
+//! A whole triangle of A that its candidates leave above `L + e` is also bounded by the
+//! nearest triangle of B and its vertex neighbours, one at a time (`surface::ring_bound`):
+//! where B is A moved a little (a simplified or perturbed copy: the benchmark's hard case,
+//! every point near the maximum), the moved copy of the triangle is among them, and bounds it
+//! by the move, about the maximum, without splitting it (knot2.8k against its copy moved by
+//! (0.3, 0.1, 0.05), instructions per symmetric query at errors 1e-2 / 1e-3 / 1e-4 R: 67.5M /
+//! 114.6M / 132.4M -> 63.0M / 80.5M / 82.8M; against turned copies, where it seldom settles a
+//! piece, 7.8M / 10.3M / 10.7M -> 7.8M / 10.4M / 10.9M; the ring's envelope with the other
+//! candidates instead of each ring triangle alone was no tighter and cost more). Sub-triangles
+//! do not try it: their parent did.
 
 use std::collections::BinaryHeap;
 
@@ -48,7 +49,7 @@ use crate::bvh::Bvh;
 use crate::error::OptionsError;
 use crate::math::{Pose, Vec3};
 use crate::query::penetration::surface::{
-    closest_on_triangle, envelope_bound, node_probe, point_to_mesh, split4, Ranked,
+    envelope_bound, node_probe, point_to_mesh, ring_bound, split4, Ranked,
 };
 use crate::TriMesh;
 
@@ -163,46 +164,12 @@ impl OneSided<'_> {
         let r = t.iter().fold(0.0_f64, |m, p| m.max((*p - c).length()));
         let mut upper = (dc + r).min(envelope_bound(self.b, &t, candidates));
         if ring && upper > self.lower + self.max_error {
-            upper = upper.min(self.ring_bound(&t, leaf, candidates));
+            upper = upper.min(ring_bound(self.b_mesh, &t, leaf));
         }
         Piece {
             upper: upper.max(dc),
             item: (PieceKind::Triangle(t), [leaf, tried[0]]),
         }
-    }
-
-    /// The envelope bound of a piece that the candidates did not settle, with two more: the
-    /// vertex neighbours of `leaf` (the triangle of B nearest the piece's centroid) whose
-    /// farthest corner distance is smallest. Where B is A moved a little, the moved copy of a
-    /// triangle of A lies a triangle or two from the nearest one, and bounds the whole piece
-    /// by the move.
-    fn ring_bound(&self, t: &[Vec3; 3], leaf: u32, candidates: &[u32]) -> f64 {
-        let tris = self.b.leaf_triangles();
-        let mut ring = [(f64::INFINITY, leaf); 2];
-        for &j in self.b_mesh.leaf_neighbours().of(leaf) {
-            let tj = &tris[j as usize];
-            // The farthest corner's squared distance, given up once it is not among the two.
-            let worst = ring[1].0 * ring[1].0;
-            let mut far2 = 0.0_f64;
-            for p in t {
-                far2 = far2.max((closest_on_triangle(*p, tj) - *p).length_squared());
-                if far2 >= worst {
-                    break;
-                }
-            }
-            let far = far2.sqrt();
-            if far < ring[1].0 {
-                ring[1] = (far, j);
-                if ring[1].0 < ring[0].0 {
-                    ring.swap(0, 1);
-                }
-            }
-        }
-        let mut all = [leaf; 6];
-        (all[1], all[2]) = (ring[0].1, ring[1].1);
-        let n = candidates.len().min(4);
-        all[3..2 + n].copy_from_slice(&candidates[1..n]);
-        envelope_bound(self.b, t, &all[..2 + n])
     }
 
     fn run(&mut self, max_error: f64) -> f64 {

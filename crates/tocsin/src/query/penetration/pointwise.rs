@@ -54,8 +54,8 @@ use crate::bvh::Node;
 use crate::error::OptionsError;
 use crate::math::{Pose, Vec3};
 use crate::query::penetration::surface::{
-    ball_meets_mesh, corner_bound, envelope_bound, node_probe, rectangle_corners, split4,
-    triangle_probe, Ranked,
+    ball_meets_mesh, corner_bound, envelope_bound, node_probe, rectangle_corners, ring_bound,
+    split4, triangle_probe, Ranked,
 };
 use crate::query::penetration::winding::inside;
 use crate::TriMesh;
@@ -100,6 +100,12 @@ const KNOWN: usize = 32;
 struct Inside<'a> {
     b_mesh: &'a TriMesh,
     lower: f64,
+    /// The error bound the search runs to: a whole triangle's bound that is not within it of
+    /// `lower` also tries [`ring_bound`], as in the Hausdorff search (knot2.8k against its copy
+    /// moved by (0.3, 0.1, 0.05), instructions per query at 1e-2 / 1e-3 / 1e-4 R: 47.5M /
+    /// 87.4M / 103.5M -> 43.0M / 58.7M / 82.1M; the grid's poses at 1% / 5% / 20% of the
+    /// radius, knot2.8k +3.5% / +3.4% / -1.1%, duck +3.7% / +3.0% / -1.4%).
+    max_error: f64,
     witness: (Vec3, Vec3),
     dropped: f64,
     /// The last closest triangle of B (neighbouring queries start from it).
@@ -134,10 +140,11 @@ fn placed_leaf(a: &TriMesh, a_to_b: &Pose, node: &Node) -> [Vec3; 3] {
 
 impl<'a> Inside<'a> {
     /// A search of the parts of A inside `b_mesh`, nothing known yet.
-    fn new(b_mesh: &'a TriMesh) -> Self {
+    fn new(b_mesh: &'a TriMesh, max_error: f64) -> Self {
         Self {
             b_mesh,
             lower: 0.0,
+            max_error,
             witness: (Vec3::ZERO, Vec3::ZERO),
             dropped: 0.0,
             warm: 0,
@@ -223,6 +230,11 @@ impl<'a> Inside<'a> {
     ) -> Option<Piece> {
         let (mut piece, dc) = self.probed(t, tried, clear, siblings)?;
         self.bound(&mut piece, dc, &tried);
+        if piece.upper > self.lower + self.max_error {
+            if let (PieceKind::Triangle(t, _), [leaf, _]) = &piece.item {
+                piece.upper = piece.upper.min(ring_bound(self.b_mesh, t, *leaf)).max(dc);
+            }
+        }
         Some(piece)
     }
 
@@ -515,7 +527,7 @@ pub fn pointwise_penetration(
         });
     }
     let one = |a: &TriMesh, pa: &Pose, b: &TriMesh, pb: &Pose| {
-        let mut s = Inside::new(b);
+        let mut s = Inside::new(b, max_error);
         let upper = s.run(a, &pb.inv_mul(pa), max_error);
         (
             s.lower,
@@ -597,7 +609,8 @@ mod tests {
             let (nodes, tris) = (a.bvh().nodes(), a.bvh().leaf_triangles());
             // A at the origin, B at `pose2`; B's frame.
             let a_to_b = pose2.inv_mul(&Pose::IDENTITY);
-            let mut s = Inside::new(b);
+            // No error: every whole triangle above the lower bound tries `ring_bound` too.
+            let mut s = Inside::new(b, 0.0);
             let mut pieces = Vec::new();
             let mut stack = vec![0u32];
             while let Some(i) = stack.pop() {

@@ -8,6 +8,7 @@ use crate::math::{Pose, Vec3};
 use crate::query::distance::{
     intersect_triangle_triangle, project_inside_triangle, triangle_normal,
 };
+use crate::TriMesh;
 
 /// A lower bound on the distance from `p` to the volume.
 #[inline]
@@ -347,6 +348,31 @@ pub(crate) fn envelope_bound(bvh: &Bvh, t: &[Vec3; 3], leaves: &[u32]) -> f64 {
     (best * (1.0 + 1e-12)).min(single)
 }
 
+/// An upper bound on `d(x, B)` over a piece `t` of A that its candidates did not settle: the
+/// smallest, over `leaf` (the triangle of B nearest the piece's centroid) and its vertex
+/// neighbours, of the farthest distance from the piece's corners to that triangle (the distance
+/// to one triangle is convex: its largest value over `t` is at a corner). Where B is A moved a
+/// little (a simplified or perturbed copy), the moved copy of a triangle of A lies a triangle
+/// or two from the nearest one, and bounds the whole piece by the move (docs/BENCHMARKS.md,
+/// twenty-third session).
+pub(crate) fn ring_bound(b: &TriMesh, t: &[Vec3; 3], leaf: u32) -> f64 {
+    let tris = b.bvh().leaf_triangles();
+    let mut best2 = f64::INFINITY;
+    for &j in std::iter::once(&leaf).chain(b.leaf_neighbours().of(leaf)) {
+        let tj = &tris[j as usize];
+        // The farthest corner's squared distance, given up once it is not the smallest.
+        let mut far2 = 0.0_f64;
+        for p in t {
+            far2 = far2.max((closest_on_triangle(*p, tj) - *p).length_squared());
+            if far2 >= best2 {
+                break;
+            }
+        }
+        best2 = best2.min(far2);
+    }
+    best2.sqrt()
+}
+
 /// A node of A's hierarchy probed from B (B's frame, A's points mapped by `a_to_b`): one exact
 /// distance, at the centroid of the triangle in the middle of the node's leaf range (the leaves
 /// are in split order, so it lies where the node's two halves meet, near its centre), and the
@@ -487,6 +513,56 @@ pub(crate) mod tests {
     /// distances to the mesh, never exceeds the best single candidate's bound, and is tighter
     /// than it on a fair share of cases: random triangles near a knot, up to four candidates
     /// among the knot's triangles nearest the triangle's corners and centroid.
+    /// `ring_bound` holds over dense samples of the piece against brute-force distances to the
+    /// other mesh (random triangles near a knot, and the knot's own triangles moved a little
+    /// and turned), and against a copy moved by `v` it bounds most triangles by `|v|`: the
+    /// moved copy of each is among the neighbours of its centroid's nearest triangle.
+    #[test]
+    fn ring_bound_holds_and_finds_the_moved_copy() {
+        let knot = crate::mesh::torus_knot(40, 6).expect("knot");
+        let bvh = knot.bvh();
+        let tris = bvh.leaf_triangles();
+        let brute = |p: Vec3| {
+            tris.iter()
+                .map(|t| oracle_distance(p, t))
+                .fold(f64::INFINITY, f64::min)
+        };
+        let mut rng = ChaCha8Rng::seed_from_u64(12);
+        let v = Vec3::new(0.05, -0.02, 0.03);
+        let turn = Pose::from_axis_angle(Vec3::new(0.2, 1.0, 0.3), 0.05, v);
+        let mut by_move = 0;
+        for case in 0..240 {
+            let t: [Vec3; 3] = match case % 3 {
+                0 => {
+                    let c = unit(&mut rng) * rng.random_range(0.0..6.0);
+                    let size = rng.random_range(0.05..1.0);
+                    [0, 1, 2].map(|_| c + unit(&mut rng) * size)
+                }
+                1 => tris[rng.random_range(0..tris.len())].map(|p| p + v),
+                _ => tris[rng.random_range(0..tris.len())].map(|p| turn.transform_point(p)),
+            };
+            let c = (t[0] + t[1] + t[2]) / 3.0;
+            let leaf = point_to_mesh(bvh, c, 0).2;
+            let bound = ring_bound(&knot, &t, leaf);
+            let k = 10;
+            for u in 0..=k {
+                for w in 0..=(k - u) {
+                    let (a, b) = (u as f64 / k as f64, w as f64 / k as f64);
+                    let x = t[0] + (t[1] - t[0]) * a + (t[2] - t[0]) * b;
+                    let dx = brute(x);
+                    assert!(
+                        dx <= bound + 1e-12,
+                        "case {case}: {dx} above the bound {bound}"
+                    );
+                }
+            }
+            if case % 3 == 1 && bound <= v.length() * (1.0 + 1e-9) {
+                by_move += 1;
+            }
+        }
+        assert!(by_move >= 60, "bounded by the move on {by_move} of 80");
+    }
+
     #[test]
     fn envelope_bound_holds_and_is_tighter() {
         let knot = crate::mesh::torus_knot(30, 5).expect("knot");
