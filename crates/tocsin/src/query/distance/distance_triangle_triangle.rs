@@ -111,7 +111,7 @@ fn edge_crossing(e: &[Vec3; 3], t: &[Vec3; 3], n: Option<Vec3>) -> Option<Vec3> 
 /// Whether two triangles intersect (touching counts). Rejects quickly when one triangle lies
 /// on one side of the other's plane by more than rounding; when each plane cuts the other
 /// triangle, compares the two segments where each triangle meets the other's plane along the
-/// planes' common line ([`crossing_intervals`]); defers to the exact distance (`distance ==
+/// planes' common line (`crossing_intervals`); defers to the exact distance (`distance ==
 /// 0`) whenever either test is within its rounding bound (a vertex near the other plane, a
 /// shared vertex, nearly parallel planes, degenerate triangles, touching within rounding), so
 /// the verdict is the distance's wherever the two could differ (the tests compare them).
