@@ -674,7 +674,9 @@ const POLISH: f64 = 1e-3;
 /// knot2.8k, 8% at the median). Body 2 comes back along the same line from there with the
 /// tolerance `min(tolerance, POLISH depth)`: a shorter translation that still ends apart
 /// (the continuous query's contract, from a start that does not penetrate). Where that query
-/// cannot finish (its iteration cap, or a tolerance below rounding), the translation is kept.
+/// cannot finish (its iteration cap, or a tolerance below rounding), the translation is kept,
+/// and where its witnesses are already that close, it is not run (knot2.8k at 1% / 5% / 20%:
+/// 2.0%, 2.1% and 1.1% fewer instructions, the depths the same to 1e-15).
 fn polish(
     mesh1: &TriMesh,
     pose1: &Pose,
@@ -697,6 +699,10 @@ fn polish(
         return Ok(best);
     };
     if fine <= 1e-12 * (s + pose2.translation.length() + pose1.translation.length()) {
+        return Ok(best);
+    }
+    // Already within it: the witnesses' distance bounds the meshes' (exact, or a pair's).
+    if (best.point2 - best.point1).length() <= fine {
         return Ok(best);
     }
     let fine_options = ContactOptions {
