@@ -245,17 +245,22 @@ pub(crate) fn advance(
     cache: &mut ContactCache,
     start_free: bool,
 ) -> Result<Option<Ends>, ContactError> {
+    let checked = checked(mesh1, motion1, mesh2, motion2, options)?;
+    advance_validated(mesh1, motion1, mesh2, motion2, checked, cache, start_free)
+}
+
+/// The options checked, and what the advancement takes from them: the tolerance, the scene
+/// scale and the iteration cap.
+fn checked(
+    mesh1: &TriMesh,
+    motion1: &Motion,
+    mesh2: &TriMesh,
+    motion2: &Motion,
+    options: &ContactOptions,
+) -> Result<(f64, f64, usize), OptionsError> {
     let delta = validate(mesh1, motion1, mesh2, motion2, options)?;
     let scale = scene_scale(mesh1, motion1, mesh2, motion2);
-    advance_validated(
-        mesh1,
-        motion1,
-        mesh2,
-        motion2,
-        (delta, scale, options.max_iterations),
-        cache,
-        start_free,
-    )
+    Ok((delta, scale, options.max_iterations))
 }
 
 /// [`advance`] once the options are checked: tolerance `delta`, scene scale `scale`, the
@@ -304,8 +309,7 @@ pub(crate) fn advance_short_translation(
     options: &ContactOptions,
     cache: &mut ContactCache,
 ) -> Result<Option<Ends>, ContactError> {
-    let delta = validate(mesh1, motion1, mesh2, motion2, options)?;
-    let scale = scene_scale(mesh1, motion1, mesh2, motion2);
+    let checked @ (delta, scale, _) = checked(mesh1, motion1, mesh2, motion2, options)?;
     if motion1.angular_velocity() == Vec3::ZERO && motion2.angular_velocity() == Vec3::ZERO {
         if let Some(answer) = cast_translation(mesh1, motion1, mesh2, motion2, delta, scale, cache)
         {
@@ -313,15 +317,7 @@ pub(crate) fn advance_short_translation(
         }
     }
     // The options were checked above: not again.
-    advance_validated(
-        mesh1,
-        motion1,
-        mesh2,
-        motion2,
-        (delta, scale, options.max_iterations),
-        cache,
-        true,
-    )
+    advance_validated(mesh1, motion1, mesh2, motion2, checked, cache, true)
 }
 
 /// The advancement's answer for two bodies that keep their rotations (body 2 translates

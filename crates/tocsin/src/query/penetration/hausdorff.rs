@@ -99,8 +99,8 @@ struct OneSided<'a> {
 
 impl OneSided<'_> {
     /// Keeps a piece worth splitting, or records the bound of one that is not.
-    fn keep(&mut self, heap: &mut BinaryHeap<Piece>, p: Piece, max_error: f64) {
-        if p.upper > self.lower + max_error {
+    fn keep(&mut self, heap: &mut BinaryHeap<Piece>, p: Piece) {
+        if p.upper > self.lower + self.max_error {
             heap.push(p);
         } else {
             self.dropped = self.dropped.max(p.upper);
@@ -149,8 +149,8 @@ impl OneSided<'_> {
 
     /// A (sub)triangle's piece from its centroid's distance `dc` and nearest triangle `leaf`:
     /// the smaller of the Lipschitz bound and the envelope over `candidates`; with `ring` (a
-    /// whole triangle of A), where that does not settle the piece, also the envelope with two
-    /// of `leaf`'s neighbours ([`Self::ring_bound`]).
+    /// whole triangle of A), where that does not settle the piece, also [`ring_bound`] over
+    /// `leaf` and its vertex neighbours.
     fn bounded(
         &self,
         t: [Vec3; 3],
@@ -172,12 +172,12 @@ impl OneSided<'_> {
         }
     }
 
-    fn run(&mut self, max_error: f64) -> f64 {
+    fn run(&mut self) -> f64 {
         let mut heap = BinaryHeap::new();
         let root = self.node_piece(0, [0, 0]);
         heap.push(root);
         while let Some(piece) = heap.pop() {
-            if piece.upper <= self.lower + max_error {
+            if piece.upper <= self.lower + self.max_error {
                 // The largest bound left is within the error: done.
                 return piece.upper.max(self.lower).max(self.dropped);
             }
@@ -187,7 +187,7 @@ impl OneSided<'_> {
                     let (l, r) = self.a.nodes()[i as usize].children(i);
                     for c in [l, r] {
                         let p = self.node_piece(c, tried);
-                        self.keep(&mut heap, p, max_error);
+                        self.keep(&mut heap, p);
                     }
                 }
                 PieceKind::Triangle(t) => {
@@ -211,7 +211,7 @@ impl OneSided<'_> {
                             }
                         }
                         let p = self.bounded(sub, dc, leaf, tried, &candidates, false);
-                        self.keep(&mut heap, p, max_error);
+                        self.keep(&mut heap, p);
                     }
                 }
             }
@@ -252,7 +252,7 @@ pub fn hausdorff_distance(
             witness: (Vec3::ZERO, Vec3::ZERO),
             dropped: 0.0,
         };
-        let upper = s.run(max_error);
+        let upper = s.run();
         HausdorffResult {
             distance: s.lower,
             upper_bound: upper.max(s.lower),

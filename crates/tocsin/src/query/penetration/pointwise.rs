@@ -385,8 +385,8 @@ impl<'a> Inside<'a> {
     }
 
     /// Queues a piece worth splitting, or records the bound of one that is not.
-    fn keep(&mut self, heap: &mut BinaryHeap<Piece>, p: Piece, max_error: f64) {
-        if p.upper > self.lower + max_error {
+    fn keep(&mut self, heap: &mut BinaryHeap<Piece>, p: Piece) {
+        if p.upper > self.lower + self.max_error {
             heap.push(p);
         } else {
             self.dropped = self.dropped.max(p.upper);
@@ -464,7 +464,7 @@ impl<'a> Inside<'a> {
         None
     }
 
-    fn run(&mut self, a: &TriMesh, a_to_b: &Pose, max_error: f64) -> f64 {
+    fn run(&mut self, a: &TriMesh, a_to_b: &Pose) -> f64 {
         let mut heap = BinaryHeap::new();
         // A's hierarchy first: a node whose bounding ball does not meet B's surface lies on
         // one side of it (the ball is connected), decided at its centre; outside nodes are
@@ -479,23 +479,23 @@ impl<'a> Inside<'a> {
             }
         }
         while let Some(piece) = heap.pop() {
-            if piece.upper <= self.lower + max_error {
+            if piece.upper <= self.lower + self.max_error {
                 return piece.upper.max(self.lower).max(self.dropped);
             }
             match piece.item {
                 (PieceKind::Inside(i), tried) => {
                     for p in self.open_inside(a, a_to_b, i, tried).into_iter().flatten() {
-                        self.keep(&mut heap, p, max_error);
+                        self.keep(&mut heap, p);
                     }
                 }
                 (PieceKind::Near(i), tried) => {
                     for p in self.open_near(a, a_to_b, i, tried).into_iter().flatten() {
-                        self.keep(&mut heap, p, max_error);
+                        self.keep(&mut heap, p);
                     }
                 }
                 (PieceKind::Triangle(t, clear), tried) => {
                     for p in self.split(t, tried, clear).into_iter().flatten() {
-                        self.keep(&mut heap, p, max_error);
+                        self.keep(&mut heap, p);
                     }
                 }
             }
@@ -528,7 +528,7 @@ pub fn pointwise_penetration(
     }
     let one = |a: &TriMesh, pa: &Pose, b: &TriMesh, pb: &Pose| {
         let mut s = Inside::new(b, max_error);
-        let upper = s.run(a, &pb.inv_mul(pa), max_error);
+        let upper = s.run(a, &pb.inv_mul(pa));
         (
             s.lower,
             upper.max(s.lower),
@@ -555,15 +555,11 @@ pub fn pointwise_penetration(
 mod tests {
     use super::*;
     use crate::mesh;
-    use crate::query::penetration::surface::tests::oracle_distance;
+    use crate::query::penetration::surface::tests::brute_distance;
 
     /// Distance from `p` to every triangle of `b`, the smallest (brute force).
     fn brute(b: &TriMesh, p: Vec3) -> f64 {
-        b.bvh()
-            .leaf_triangles()
-            .iter()
-            .map(|t| oracle_distance(p, t))
-            .fold(f64::INFINITY, f64::min)
+        brute_distance(b.bvh().leaf_triangles(), p)
     }
 
     /// Barycentric grid of `k + 1` points a side over the triangle.

@@ -509,10 +509,13 @@ pub(crate) mod tests {
         best
     }
 
-    /// The envelope bound holds over dense samples of the triangle against brute-force
-    /// distances to the mesh, never exceeds the best single candidate's bound, and is tighter
-    /// than it on a fair share of cases: random triangles near a knot, up to four candidates
-    /// among the knot's triangles nearest the triangle's corners and centroid.
+    /// Distance from `p` to the nearest of `tris`, brute force over [`oracle_distance`].
+    pub(crate) fn brute_distance(tris: &[[Vec3; 3]], p: Vec3) -> f64 {
+        tris.iter()
+            .map(|t| oracle_distance(p, t))
+            .fold(f64::INFINITY, f64::min)
+    }
+
     /// `ring_bound` holds over dense samples of the piece against brute-force distances to the
     /// other mesh (random triangles near a knot, and the knot's own triangles moved a little
     /// and turned), and against a copy moved by `v` it bounds most triangles by `|v|`: the
@@ -522,11 +525,7 @@ pub(crate) mod tests {
         let knot = crate::mesh::torus_knot(40, 6).expect("knot");
         let bvh = knot.bvh();
         let tris = bvh.leaf_triangles();
-        let brute = |p: Vec3| {
-            tris.iter()
-                .map(|t| oracle_distance(p, t))
-                .fold(f64::INFINITY, f64::min)
-        };
+        let brute = |p: Vec3| brute_distance(tris, p);
         let mut rng = ChaCha8Rng::seed_from_u64(12);
         let v = Vec3::new(0.05, -0.02, 0.03);
         let turn = Pose::from_axis_angle(Vec3::new(0.2, 1.0, 0.3), 0.05, v);
@@ -563,16 +562,16 @@ pub(crate) mod tests {
         assert!(by_move >= 60, "bounded by the move on {by_move} of 80");
     }
 
+    /// The envelope bound holds over dense samples of the triangle against brute-force
+    /// distances to the mesh, never exceeds the best single candidate's bound, and is tighter
+    /// than it on a fair share of cases: random triangles near a knot, up to four candidates
+    /// among the knot's triangles nearest the triangle's corners and centroid.
     #[test]
     fn envelope_bound_holds_and_is_tighter() {
         let knot = crate::mesh::torus_knot(30, 5).expect("knot");
         let bvh = knot.bvh();
         let tris = bvh.leaf_triangles();
-        let brute = |p: Vec3| {
-            tris.iter()
-                .map(|t| oracle_distance(p, t))
-                .fold(f64::INFINITY, f64::min)
-        };
+        let brute = |p: Vec3| brute_distance(tris, p);
         let mut rng = ChaCha8Rng::seed_from_u64(9);
         let (mut tighter, cases) = (0, 300);
         for case in 0..cases {
