@@ -205,7 +205,6 @@ impl OneSided<'_> {
     }
 
     /// Counts a probe of a node of `triangles` triangles that bounded it by `upper`.
-    #[inline(never)]
     fn record(&mut self, triangles: usize, upper: f64) {
         let (probed, settled) = &mut self.probes[size_class(triangles)];
         *probed += 1;
