@@ -555,23 +555,11 @@ pub fn pointwise_penetration(
 mod tests {
     use super::*;
     use crate::mesh;
-    use crate::query::penetration::surface::tests::brute_distance;
+    use crate::query::penetration::surface::tests::{barycentric_grid, brute_distance};
 
     /// Distance from `p` to every triangle of `b`, the smallest (brute force).
     fn brute(b: &TriMesh, p: Vec3) -> f64 {
         brute_distance(b.bvh().leaf_triangles(), p)
-    }
-
-    /// Barycentric grid of `k + 1` points a side over the triangle.
-    fn samples(t: &[Vec3; 3], k: usize) -> Vec<Vec3> {
-        let mut out = Vec::new();
-        for u in 0..=k {
-            for v in 0..=(k - u) {
-                let (s, r) = (u as f64 / k as f64, v as f64 / k as f64);
-                out.push(t[0] + (t[1] - t[0]) * s + (t[2] - t[0]) * r);
-            }
-        }
-        out
     }
 
     /// Every piece's upper bound holds over dense samples of the piece, against brute-force
@@ -618,9 +606,11 @@ mod tests {
                 let points: Vec<Vec3> = match &p.item.0 {
                     PieceKind::Inside(i) | PieceKind::Near(i) => nodes[*i as usize]
                         .leaf_range()
-                        .flat_map(|k| samples(&tris[k].map(|q| a_to_b.transform_point(q)), 4))
+                        .flat_map(|k| {
+                            barycentric_grid(&tris[k].map(|q| a_to_b.transform_point(q)), 4)
+                        })
                         .collect(),
-                    PieceKind::Triangle(t, _) => samples(t, 6),
+                    PieceKind::Triangle(t, _) => barycentric_grid(t, 6),
                 };
                 let worst = points.iter().map(|q| brute(b, *q)).fold(0.0, f64::max);
                 assert!(

@@ -516,6 +516,18 @@ pub(crate) mod tests {
             .fold(f64::INFINITY, f64::min)
     }
 
+    /// Barycentric grid of `k + 1` points a side over the triangle (corners included).
+    pub(crate) fn barycentric_grid(t: &[Vec3; 3], k: usize) -> Vec<Vec3> {
+        let mut out = Vec::new();
+        for u in 0..=k {
+            for v in 0..=(k - u) {
+                let (s, r) = (u as f64 / k as f64, v as f64 / k as f64);
+                out.push(t[0] + (t[1] - t[0]) * s + (t[2] - t[0]) * r);
+            }
+        }
+        out
+    }
+
     /// `ring_bound` holds over dense samples of the piece against brute-force distances to the
     /// other mesh (random triangles near a knot, and the knot's own triangles moved a little
     /// and turned), and against a copy moved by `v` it bounds most triangles by `|v|`: the
@@ -543,17 +555,12 @@ pub(crate) mod tests {
             let c = (t[0] + t[1] + t[2]) / 3.0;
             let leaf = point_to_mesh(bvh, c, 0).2;
             let bound = ring_bound(&knot, &t, leaf);
-            let k = 10;
-            for u in 0..=k {
-                for w in 0..=(k - u) {
-                    let (a, b) = (u as f64 / k as f64, w as f64 / k as f64);
-                    let x = t[0] + (t[1] - t[0]) * a + (t[2] - t[0]) * b;
-                    let dx = brute(x);
-                    assert!(
-                        dx <= bound + 1e-12,
-                        "case {case}: {dx} above the bound {bound}"
-                    );
-                }
+            for x in barycentric_grid(&t, 10) {
+                let dx = brute(x);
+                assert!(
+                    dx <= bound + 1e-12,
+                    "case {case}: {dx} above the bound {bound}"
+                );
             }
             if case % 3 == 1 && bound <= v.length() * (1.0 + 1e-9) {
                 by_move += 1;
@@ -589,17 +596,12 @@ pub(crate) mod tests {
             let bound = envelope_bound(bvh, &t, &leaves);
             let single = corner_bound(bvh, &t, &leaves);
             assert!(bound <= single, "case {case}: {bound} above {single}");
-            let k = 12;
-            for u in 0..=k {
-                for v in 0..=(k - u) {
-                    let (s, r) = (u as f64 / k as f64, v as f64 / k as f64);
-                    let x = t[0] + (t[1] - t[0]) * s + (t[2] - t[0]) * r;
-                    let dx = brute(x);
-                    assert!(
-                        dx <= bound + 1e-12,
-                        "case {case}: {dx} above the bound {bound}"
-                    );
-                }
+            for x in barycentric_grid(&t, 12) {
+                let dx = brute(x);
+                assert!(
+                    dx <= bound + 1e-12,
+                    "case {case}: {dx} above the bound {bound}"
+                );
             }
             if bound < single * (1.0 - 1e-3) {
                 tighter += 1;
