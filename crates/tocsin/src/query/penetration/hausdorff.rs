@@ -113,8 +113,8 @@ pub struct HausdorffResult {
 type Piece = Ranked<(PieceKind, [u32; 2])>;
 
 enum PieceKind {
-    /// A node, with its probe's exact distance (model units; at the centroid of the triangle in the middle
-    /// of its leaf range) where it was probed.
+    /// A node, with its probe's exact distance (model units; at the centroid of the triangle
+    /// in the middle of its leaf range) where it was probed.
     Node(u32, Option<f64>),
     Triangle([Vec3; 3]),
 }
