@@ -12,7 +12,13 @@
 //! 3. `pairs`: the single query on every broad-phase pair of the 10,000-body step, timed one by
 //!    one and grouped by outcome (no contact, contact at the start, later) and mesh pair.
 //!
-//! `cargo run --release --example bench_world -- [broad|step|pairs|all] [bunny.obj]`
+//! 4. `gpu` (feature `cuda`, on a machine with a CUDA GPU): the broad phase of 1. on the GPU
+//!    beside the CPU's on 1, 2 and all threads, the pairs checked equal; the GPU timed with the
+//!    boxes already there (pairs found, left there), with the pairs copied back, and as the
+//!    whole call from host boxes; interleaved, median of the repetitions.
+//!
+//! `cargo run --release --example bench_world [--features cuda] -- [broad|step|pairs|gpu|all]
+//! [bunny.obj]`
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -184,6 +190,74 @@ fn broad() {
     }
 }
 
+#[cfg(feature = "cuda")]
+fn gpu_broad() {
+    use tocsin::world::gpu::GpuBroadPhase;
+    let clock = Instant::now();
+    let gpu = GpuBroadPhase::new().expect("a CUDA GPU");
+    println!(
+        "device: {}; kernels compiled and loaded in {:.0} ms",
+        gpu.device_name().expect("name"),
+        clock.elapsed().as_secs_f64() * 1e3
+    );
+    let all = std::thread::available_parallelism().map_or(2, |n| n.get());
+    println!(
+        "| boxes | pairs | CPU 1 thread (ms) | CPU 2 threads (ms) | CPU {all} threads (ms) | GPU, boxes there (ms) | + pairs to the host (ms) | GPU whole call (ms) |"
+    );
+    println!("|---:|---:|---:|---:|---:|---:|---:|---:|");
+    let pools = [pool(1), pool(2), pool(all)];
+    for n in [10_000, 100_000, 1_000_000, 4_000_000] {
+        let b = boxes(n, n as u64);
+        let cpu = pools[2].install(|| sweep_and_prune(&b, SweepAxis::LargestVariance));
+        let on_gpu = pools[2]
+            .install(|| gpu.sweep_and_prune(&b))
+            .expect("gpu pairs");
+        assert_eq!(
+            cpu, on_gpu,
+            "{n} boxes: the GPU's pairs differ from the CPU's"
+        );
+        let reps = if n >= 1_000_000 { 7 } else { 21 };
+        let mut t = vec![Vec::new(); 6];
+        let up = gpu.upload(&b).expect("upload");
+        for _ in 0..reps {
+            for (k, p) in pools.iter().enumerate() {
+                if n >= 4_000_000 && k == 0 {
+                    continue;
+                }
+                let clock = Instant::now();
+                p.install(|| sweep_and_prune(&b, SweepAxis::LargestVariance));
+                t[k].push(clock.elapsed().as_secs_f64() * 1e3);
+            }
+            let clock = Instant::now();
+            let pairs = gpu.pairs(&up).expect("pairs");
+            t[3].push(clock.elapsed().as_secs_f64() * 1e3);
+            let v = pools[2].install(|| pairs.to_vec()).expect("to host");
+            t[4].push(clock.elapsed().as_secs_f64() * 1e3);
+            assert_eq!(v.len(), cpu.len());
+            let clock = Instant::now();
+            pools[2].install(|| gpu.sweep_and_prune(&b)).expect("gpu");
+            t[5].push(clock.elapsed().as_secs_f64() * 1e3);
+        }
+        let m = |v: &Vec<f64>| {
+            if v.is_empty() {
+                "-".to_string()
+            } else {
+                format!("{:.2}", median(v.clone()))
+            }
+        };
+        println!(
+            "| {n} | {} | {} | {} | {} | {} | {} | {} |",
+            cpu.len(),
+            m(&t[0]),
+            m(&t[1]),
+            m(&t[2]),
+            m(&t[3]),
+            m(&t[4]),
+            m(&t[5])
+        );
+    }
+}
+
 fn scaled(mesh: TriMesh, radius: f64) -> Arc<TriMesh> {
     let s = radius / mesh.bounding_radius();
     let c = mesh.vertices().iter().fold(Vec3::ZERO, |a, v| a + *v) / mesh.num_vertices() as f64;
@@ -276,6 +350,10 @@ fn main() {
     let what = args.get(1).map_or("all", String::as_str);
     if what == "broad" || what == "all" {
         broad();
+    }
+    #[cfg(feature = "cuda")]
+    if what == "gpu" {
+        gpu_broad();
     }
     if what == "one" {
         let n: usize = args

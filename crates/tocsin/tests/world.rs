@@ -156,18 +156,13 @@ fn sort_and_sweep_finds_every_overlapping_pair() {
     assert_eq!(pairs, all_pairs(&line));
 }
 
-#[test]
-fn sort_and_sweep_in_cells_handles_mixed_sizes_flat_scenes_and_bad_boxes() {
-    let mut r = rng(17);
-    let check = |boxes: &[Aabb], what: &str| {
-        let reference = all_pairs(boxes);
-        for axis in [SweepAxis::Principal, SweepAxis::LargestVariance] {
-            assert_eq!(sweep_and_prune(boxes, axis), reference, "{what}");
-        }
-        reference.len()
-    };
+/// The broad phase's hard sets: mixed sizes (a few walls among small boxes), a flat and a thin
+/// scene, identical boxes, a cluster at huge coordinates, tiny boxes, boxes touching face to
+/// face, and bad boxes (NaN, infinite, `min > max`), each with a name.
+fn hard_box_sets(r: &mut impl Rng) -> Vec<(&'static str, Vec<Aabb>)> {
+    let mut sets = Vec::new();
     // Many small boxes with a few huge ones (walls, floors: oversize boxes kept out of cells).
-    let mut mixed = random_boxes(&mut r, 4000, 0.01);
+    let mut mixed = random_boxes(r, 4000, 0.01);
     for k in 0..6 {
         let c = Vec3::new(r.random(), r.random(), r.random());
         let h = [
@@ -183,17 +178,16 @@ fn sort_and_sweep_in_cells_handles_mixed_sizes_flat_scenes_and_bad_boxes() {
             },
         );
     }
-    let n = check(&mixed, "mixed");
-    assert!(n > 1000, "{n}");
+    sets.push(("mixed", mixed));
     // All boxes in one plane, and all on one line (cells of a flat or thin scene).
-    let flat: Vec<Aabb> = random_boxes(&mut r, 2000, 0.02)
+    let flat: Vec<Aabb> = random_boxes(r, 2000, 0.02)
         .into_iter()
         .map(|b| Aabb {
             min: Vec3::new(b.min.x, b.min.y, 0.0),
             max: Vec3::new(b.max.x, b.max.y, 0.0),
         })
         .collect();
-    assert!(check(&flat, "flat") > 0);
+    sets.push(("flat", flat));
     let thin: Vec<Aabb> = (0..500)
         .map(|i| {
             let x = (i as f64 * 0.37).sin() * 10.0;
@@ -203,8 +197,8 @@ fn sort_and_sweep_in_cells_handles_mixed_sizes_flat_scenes_and_bad_boxes() {
             }
         })
         .collect();
-    assert!(check(&thin, "thin") > 0);
-    // Identical boxes, points, one big cluster far from the rest, huge coordinates.
+    sets.push(("thin", thin));
+    // Identical boxes, one big cluster far from the rest, huge coordinates, tiny boxes.
     let same = vec![
         Aabb {
             min: Vec3::splat(1.0),
@@ -212,25 +206,106 @@ fn sort_and_sweep_in_cells_handles_mixed_sizes_flat_scenes_and_bad_boxes() {
         };
         50
     ];
-    assert_eq!(check(&same, "same"), 50 * 49 / 2);
-    let mut far = random_boxes(&mut r, 300, 0.05);
+    sets.push(("same", same));
+    let mut far = random_boxes(r, 300, 0.05);
     for b in far.iter_mut().step_by(3) {
         b.min += Vec3::splat(1e12);
         b.max += Vec3::splat(1e12);
     }
-    check(&far, "far");
-    // NaN and infinite boxes overlap nothing.
-    let mut bad = random_boxes(&mut r, 200, 0.1);
+    sets.push(("far", far));
+    let tiny: Vec<Aabb> = random_boxes(r, 1000, 0.02)
+        .into_iter()
+        .map(|b| Aabb {
+            min: b.min * 1e-9 + Vec3::splat(1e3),
+            max: b.max * 1e-9 + Vec3::splat(1e3),
+        })
+        .collect();
+    sets.push(("tiny at 1e3", tiny));
+    // Unit cubes on a grid, each touching its neighbours face, edge and corner.
+    let mut lattice = Vec::new();
+    for x in 0..6 {
+        for y in 0..6 {
+            for z in 0..6 {
+                let min = Vec3::new(x as f64, y as f64, z as f64) * 0.3;
+                lattice.push(Aabb {
+                    min,
+                    max: min + Vec3::splat(0.3),
+                });
+            }
+        }
+    }
+    sets.push(("touching lattice", lattice));
+    // NaN, infinite and empty (`min > max`) boxes overlap nothing.
+    let mut bad = random_boxes(r, 200, 0.1);
     bad[3].min.x = f64::NAN;
     bad[7].max = Vec3::splat(f64::INFINITY);
-    let pairs = sweep_and_prune(&bad, SweepAxis::Principal);
-    assert!(pairs
-        .iter()
-        .all(|&(i, j)| ![3, 7].contains(&i) && ![3, 7].contains(&j)));
-    assert_eq!(pairs, all_pairs(&bad));
+    bad[11] = Aabb {
+        min: Vec3::splat(0.6),
+        max: Vec3::new(0.7, 0.4, 0.7),
+    };
+    sets.push(("bad", bad));
+    sets
 }
 
-/// Every pair (not both static) through the single query: the oracle of `first_contacts`.
+#[test]
+fn sort_and_sweep_in_cells_handles_mixed_sizes_flat_scenes_and_bad_boxes() {
+    let mut r = rng(17);
+    for (what, boxes) in hard_box_sets(&mut r) {
+        let reference = all_pairs(&boxes);
+        for axis in [SweepAxis::Principal, SweepAxis::LargestVariance] {
+            assert_eq!(sweep_and_prune(&boxes, axis), reference, "{what}");
+        }
+        match what {
+            "mixed" => assert!(reference.len() > 1000, "{}", reference.len()),
+            "same" => assert_eq!(reference.len(), 50 * 49 / 2),
+            // 6^3 cubes: 3 * 5 * 36 face, 6 * 25 * 6 edge and 4 * 125 corner neighbours.
+            "touching lattice" => assert_eq!(reference.len(), 540 + 900 + 500),
+            "bad" => assert!(reference
+                .iter()
+                .all(|&(i, j)| ![3, 7, 11].contains(&i) && ![3, 7, 11].contains(&j))),
+            _ => assert!(!reference.is_empty(), "{what}"),
+        }
+    }
+}
+
+/// The GPU broad phase gives the CPU's pairs, in the CPU's order, on the hard sets and on
+/// random boxes up to 200,000 (where a CUDA device is present: the test says so and returns
+/// where it is not, as CI has none).
+#[cfg(feature = "cuda")]
+#[test]
+fn gpu_broad_phase_gives_the_cpu_pairs() {
+    let gpu = match tocsin::world::gpu::GpuBroadPhase::new() {
+        Ok(gpu) => gpu,
+        Err(e) => {
+            // The error is the answer without a GPU: it must say what is missing.
+            assert!(e.to_string().contains("GPU broad phase"), "{e}");
+            eprintln!("skipped: no CUDA GPU here ({e})");
+            return;
+        }
+    };
+    let mut r = rng(29);
+    let mut sets = hard_box_sets(&mut r);
+    for (n, size) in [(0, 0.1), (1, 0.1), (2, 1.0), (500, 0.03), (20_000, 0.004)] {
+        sets.push(("random", random_boxes(&mut r, n, size)));
+    }
+    // Sized for about two pairs per box, as in the benchmark, with a few walls.
+    let mut big = random_boxes(&mut r, 200_000, (1.0 / (16.0 * 200_000.0f64)).cbrt());
+    for k in 0..40 {
+        let c = Vec3::new(r.random(), r.random(), r.random());
+        big[k * 4999] = Aabb {
+            min: c - Vec3::new(0.2, 0.01, 0.3),
+            max: c + Vec3::new(0.2, 0.01, 0.3),
+        };
+    }
+    sets.push(("200K with walls", big));
+    for (what, boxes) in &sets {
+        let cpu = sweep_and_prune(boxes, SweepAxis::LargestVariance);
+        let on_gpu = gpu.sweep_and_prune(boxes);
+        assert!(on_gpu.is_ok(), "{what}: {:?}", on_gpu.err());
+        assert_eq!(on_gpu.ok(), Some(cpu), "{what}");
+    }
+}
+
 fn brute_first_contacts(world: &World, options: &ContactOptions) -> Vec<WorldContact> {
     let mut out = Vec::new();
     for i in 0..world.len() {

@@ -91,7 +91,7 @@ impl Grid {
 }
 
 /// Every pair `(i, j)`, `i < j`, of boxes that overlap (touching counts), sorted. Boxes with a
-/// NaN or infinite coordinate overlap nothing.
+/// NaN or infinite coordinate, or `min > max` on an axis (empty), overlap nothing.
 pub fn sweep_and_prune(boxes: &[Aabb], axis: SweepAxis) -> Vec<(u32, u32)> {
     assert!(
         u32::try_from(boxes.len()).is_ok(),
@@ -124,7 +124,7 @@ pub fn sweep_and_prune(boxes: &[Aabb], axis: SweepAxis) -> Vec<(u32, u32)> {
     let projected: Vec<Projected> = boxes
         .par_iter()
         .enumerate()
-        .filter(|(_, b)| b.min.is_finite() && b.max.is_finite())
+        .filter(|(_, b)| holds_something(b))
         .map(|(i, b)| {
             let (lo, hi) = project(b);
             Projected {
@@ -308,7 +308,7 @@ fn grid(sorted: &[Projected]) -> Grid {
 
 /// The same pairs by testing every pair of boxes (the reference the sweep is tested and
 /// benchmarked against), in parallel over the first box; boxes with a NaN or infinite
-/// coordinate overlap nothing here too.
+/// coordinate, or empty, overlap nothing here too.
 pub fn all_pairs(boxes: &[Aabb]) -> Vec<(u32, u32)> {
     assert!(
         u32::try_from(boxes.len()).is_ok(),
@@ -318,20 +318,25 @@ pub fn all_pairs(boxes: &[Aabb]) -> Vec<(u32, u32)> {
         .into_par_iter()
         .flat_map_iter(|i| {
             let bi = boxes[i];
-            let finite = |b: &Aabb| b.min.is_finite() && b.max.is_finite();
-            let keep = finite(&bi);
+            let keep = holds_something(&bi);
             boxes[i + 1..]
                 .iter()
                 .enumerate()
-                .filter(move |(_, bj)| keep && finite(bj) && bi.overlaps(bj))
+                .filter(move |(_, bj)| keep && holds_something(bj) && bi.overlaps(bj))
                 .map(move |(k, _)| (i as u32, (i + 1 + k) as u32))
         })
         .collect()
 }
 
+/// A box with finite coordinates and `min <= max` on every axis: the boxes that can overlap.
+#[inline]
+fn holds_something(b: &Aabb) -> bool {
+    b.min.is_finite() && b.max.is_finite() && b.min.cmple(b.max).all()
+}
+
 /// The orthonormal frame the sweep works in: the sweep axis first.
 fn sweep_frame(boxes: &[Aabb], axis: SweepAxis) -> [Vec3; 3] {
-    let finite = |b: &&Aabb| b.min.is_finite() && b.max.is_finite();
+    let finite = |b: &&Aabb| holds_something(b);
     let (count, sum) = boxes
         .par_iter()
         .filter(finite)

@@ -19,6 +19,8 @@
 //! box (a thousand copies of a part cost one part).
 
 pub mod broad;
+#[cfg(feature = "cuda")]
+pub mod gpu;
 pub mod swept;
 
 use crate::error::{ContactError, OptionsError};
