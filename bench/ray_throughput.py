@@ -9,7 +9,12 @@
    work each) in chunks of 1, 10, 100 rows.
 3. The cost a task would pay without the per-process cache: pickling and rebuilding knot34k.
 
-Run: `python bench/ray_throughput.py` (needs ray: `pip install "tocsin[ray]"`).
+`--scaling` instead (a machine with many cores): 16,000 knot34k screw motions through
+`tocsin.distributed` on one-node clusters of 1, 2, 4, 8, ... CPUs up to the machine's count
+(default chunk size; the first call of each cluster timed apart, then the median of 3), beside
+the local batch on as many threads; the speedup is against Ray on 1 CPU.
+
+Run: `python bench/ray_throughput.py [--scaling]` (needs ray: `pip install "tocsin[ray]"`).
 """
 
 import os
@@ -36,11 +41,11 @@ def motions(n, seed):
     return starts, ends
 
 
-def local(threads, fn):
+def local(threads, fn, queries=2000):
     """Runs fn in a child process with RAYON_NUM_THREADS=threads (the pool is per process)."""
     code = (
         "import time, pickle, sys; sys.path.insert(0, %r); import ray_throughput as b; import tocsin\n"
-        "knot = tocsin.Mesh.torus_knot(344, 50); s, e = b.motions(2000, 1)\n"
+        f"knot = tocsin.Mesh.torus_knot(344, 50); s, e = b.motions({queries}, 1)\n"
         "tocsin.time_of_contact_batch(knot, s[:20], e[:20], knot, kind='screw')\n"
         "t = time.perf_counter(); r = tocsin.time_of_contact_batch(knot, s, e, knot, kind='screw'); dt = time.perf_counter() - t\n"
         "print(dt)" % os.path.dirname(os.path.abspath(__file__))
@@ -109,5 +114,53 @@ def main():
     print(f"pickle + unpickle (hierarchy rebuilt) of knot34k: {rebuild * 1e3:.1f} ms, {len(pickle.dumps(knot)) / 1e6:.2f} MB")
 
 
+def scaling():
+    import ray
+    from tocsin import distributed
+
+    queries = 16000
+    knot = tocsin.Mesh.torus_knot(344, 50)
+    starts, ends = motions(queries, 1)
+    reference = tocsin.time_of_contact_batch(knot, starts, ends, knot, kind="screw")
+    cores = os.cpu_count() or 1
+    counts = [c for c in (1, 2, 4, 8, 16, 32, 64) if c <= cores]
+    print(f"machine: {platform.processor() or platform.machine()}, {cores} CPUs; "
+          f"{queries:,} knot34k screw motions, {int(np.isfinite(reference.time).sum())} contacts")
+    print("| CPUs | Ray first call (s) | Ray (s) | Ray queries/s | speedup over Ray on 1 CPU | local batch, as many threads (s) | Ray / local |")
+    print("|---:|---:|---:|---:|---:|---:|---:|")
+    base = None
+    for cpus in counts:
+        ray.init(num_cpus=cpus, include_dashboard=False, log_to_driver=False)
+        t = time.perf_counter()
+        cold = distributed.time_of_contact_batch(knot, starts, ends, knot, kind="screw")
+        first = time.perf_counter() - t
+        assert np.array_equal(cold.time, reference.time, equal_nan=True)
+        ts = []
+        for _ in range(3):
+            t = time.perf_counter()
+            r = distributed.time_of_contact_batch(knot, starts, ends, knot, kind="screw")
+            ts.append(time.perf_counter() - t)
+            assert np.array_equal(r.time, reference.time, equal_nan=True)
+        if cpus == counts[-1]:
+            # Four and sixteen chunks per CPU beside the default eight.
+            for per in (4, 16):
+                other = []
+                for _ in range(3):
+                    t = time.perf_counter()
+                    distributed.time_of_contact_batch(knot, starts, ends, knot, kind="screw",
+                                                      chunk_size=-(-queries // (per * cpus)))
+                    other.append(time.perf_counter() - t)
+                print(f"{cpus} CPUs, {per} chunks per CPU: {float(np.median(other)):.3f} s", flush=True)
+        ray.shutdown()
+        warm = float(np.median(ts))
+        base = base or warm
+        here = local(cpus, None, queries)
+        print(f"| {cpus} | {first:.2f} | {warm:.3f} | {queries / warm:,.0f} | {base / warm:.1f}x | {here:.3f} | {warm / here:.2f} |",
+              flush=True)
+
+
 if __name__ == "__main__":
-    main()
+    if "--scaling" in sys.argv:
+        scaling()
+    else:
+        main()

@@ -57,6 +57,40 @@ def test_same_results_as_the_local_batches(cluster, chunk):
     assert 0 < np.isfinite(d.time).sum() < 40
 
 
+def test_a_mesh_is_put_once_across_calls(cluster):
+    # The same mesh as both bodies, in two calls: one object-store copy (one token, so each
+    # worker rebuilds it once); another mesh object gets its own; the answers stay the same.
+    knot = tocsin.Mesh.torus_knot(120, 10)
+    poses, other = knot_poses(20, 4), knot_poses(20, 5)
+    local = tocsin.collide_batch(knot, poses, knot, other)
+    first = distributed._share(ray, knot)
+    same(distributed.collide_batch(knot, poses, knot, other, chunk_size=3), local)
+    same(distributed.collide_batch(knot, poses, knot, other, chunk_size=5), local)
+    assert distributed._share(ray, knot) == first
+    copy = tocsin.Mesh(knot.vertices, knot.triangles)
+    assert distributed._share(ray, copy)[0] != first[0]
+    same(distributed.collide_batch(copy, poses, knot, other, chunk_size=4), local)
+
+
+def test_a_mesh_put_on_a_cluster_since_shut_down_is_put_again():
+    # A new local cluster in the same process numbers its jobs from 1 again: a remembered mesh
+    # of the old one must not be passed to it (its reference has no owner there).
+    code = (
+        "import numpy as np, ray, tocsin\n"
+        "from tocsin import distributed\n"
+        "knot = tocsin.Mesh.torus_knot(60, 8)\n"
+        "poses = np.stack([np.eye(4)] * 3); poses[:, 0, 3] = [0.0, 0.5, 9.0]\n"
+        "for _ in range(2):\n"
+        "    ray.init(num_cpus=1, include_dashboard=False, log_to_driver=False)\n"
+        "    r = distributed.collide_batch(knot, poses, knot, np.eye(4))\n"
+        "    assert r.tolist() == [True, True, False], r\n"
+        "    ray.shutdown()\n"
+        "print('ok')\n"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
+    assert out.returncode == 0 and out.stdout.strip().endswith("ok"), out.stderr[-2000:]
+
+
 def test_robot_edges_and_configurations(cluster):
     robot = tocsin.Robot.from_urdf(str(PANDA))
     scene = tocsin.Scene()

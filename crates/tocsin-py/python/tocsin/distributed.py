@@ -14,7 +14,10 @@ Meshes, robots and scenes go into Ray's object store once per call (``ray.put``)
 task; a worker process unpickles each of them (rebuilding a mesh's hierarchy: 34 ms for the
 34,000-triangle knot) the first time one of its tasks needs it, then keeps it for the later
 tasks of the call (a per-process cache, the benefit of an actor pool without its bookkeeping;
-docs/BENCHMARKS.md has the comparison).
+docs/BENCHMARKS.md has the comparison). A :class:`~tocsin.Mesh` cannot change once built, so
+the same mesh object, given twice in a call or again in later calls on the same cluster, is
+put once and rebuilt once per worker (the last 32 meshes are remembered, with a reference that
+keeps them alive); robots and scenes, which can be edited, are put again at every call.
 
 Starting a cluster (shell)::
 
@@ -65,7 +68,8 @@ __all__ = [
 ]
 
 #: Rows per task when ``chunk_size`` is not given: the smaller of this and an even split in
-#: four tasks per worker CPU (docs/BENCHMARKS.md, "Ray").
+#: eight tasks per worker CPU (docs/BENCHMARKS.md, "Ray": on 16 CPUs, 8 per CPU measured 0.51 s
+#: where 4 took 0.63 s, the tail of unequal chunks being shorter).
 DEFAULT_CHUNK = 2048
 
 
@@ -106,9 +110,31 @@ _CACHE: "OrderedDict[str, Any]" = OrderedDict()
 _CACHE_SIZE = 32
 
 
+# Meshes already put, by ((job, node), object identity): (mesh, (token, reference)). The mesh
+# is held, so its identity is not reused while it is remembered.
+_PUT: "OrderedDict[tuple, tuple]" = OrderedDict()
+
+
 def _share(ray, obj):
-    """A token and the object-store reference of a mesh, robot or scene."""
-    return (uuid.uuid4().hex, ray.put(obj))
+    """A token and the object-store reference of a mesh, robot or scene (a mesh put earlier on
+    this cluster: the same ones, module docs)."""
+    if not isinstance(obj, Mesh):
+        return (uuid.uuid4().hex, ray.put(obj))
+    # A new local cluster starts its job numbers again, so the node names the cluster too.
+    context = ray.get_runtime_context()
+    job = (context.get_job_id(), context.get_node_id())
+    for stale in [k for k in _PUT if k[0] != job]:
+        del _PUT[stale]  # put in an earlier connection, since shut down
+    key = (job, id(obj))
+    hit = _PUT.get(key)
+    if hit is not None and hit[0] is obj:
+        _PUT.move_to_end(key)
+        return hit[1]
+    shared = (uuid.uuid4().hex, ray.put(obj))
+    _PUT[key] = (obj, shared)
+    while len(_PUT) > _CACHE_SIZE:
+        _PUT.popitem(last=False)
+    return shared
 
 
 def _resolve(shared):
@@ -179,7 +205,7 @@ def _run(
     ray = _ray()
     if chunk_size is None:
         cpus = max(1, int(ray.cluster_resources().get("CPU", 1)))
-        chunk_size = max(1, min(DEFAULT_CHUNK, -(-count // (4 * cpus))))
+        chunk_size = max(1, min(DEFAULT_CHUNK, -(-count // (8 * cpus))))
     chunk_size = int(chunk_size)
     refs = {name: _share(ray, obj) for name, obj in shared.items()}
     # One core per task, as Ray counts it: the worker's own thread pool is one thread.
