@@ -28,6 +28,10 @@
 //! place of the largest coordinate: two low corners at most a width apart then fall in cells at
 //! most one apart even after rounding. The overlap test is the CPU's (closed boxes), in `f64`.
 //! Boxes with a NaN, an infinite coordinate or `min > max` overlap nothing, as on the CPU.
+//!
+//! Limits: fewer than 2^31 boxes (an error beyond), and list places are 32-bit, so the answer
+//! is right only below 2^32 pairs (a partners buffer of 16 GiB; the CPU path has no such
+//! limit).
 #![allow(unsafe_code)]
 // SAFETY (the module's one concern): kernel launches are `unsafe` in cudarc because the
 // arguments cannot be checked against the kernel's signature. Each launch below passes the
@@ -452,7 +456,8 @@ fn plan(n: u32, bounds: &[u64], hist: &[u32], bin_max: &[u64]) -> Option<Plan> {
     // of the coordinates; the relative margin keeps two corners a width apart within one cell.
     let slack = 8.0 * f64::EPSILON * largest;
     let mut size = (wmax * (1.0 + 1e-6) + slack).max(f64::MIN_POSITIVE);
-    let most = 4.0 * valid as f64 + 64.0;
+    // (Cell numbers are 32-bit in the kernels.)
+    let most = (4.0 * valid as f64 + 64.0).min(f64::from(1u32 << 31));
     let count = |size: f64| span.map(|s| (s / size).floor() + 1.0);
     let cells = |c: [f64; 3]| c[0] * c[1] * c[2];
     if cells(count(size)) > most {
