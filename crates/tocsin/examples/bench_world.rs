@@ -190,6 +190,73 @@ fn broad() {
     }
 }
 
+/// The three-axis grid beside the sweep in the coordinate frame (the pairs checked equal), on
+/// random boxes and on the step's 10,000-body world (its candidate pairs and `first_contacts`).
+fn grid_broad(bunny: Option<&str>) {
+    println!("| boxes | pairs | threads | sort and sweep, largest-variance axis (ms) | three-axis grid (ms) |");
+    println!("|---:|---:|---:|---:|---:|");
+    for n in [500, 2_000, 10_000, 100_000, 1_000_000] {
+        let b = boxes(n, n as u64);
+        let reps = if n >= 1_000_000 { 7 } else { 21 };
+        let pools = [pool(1), pool(2)];
+        let mut t = vec![[Vec::new(), Vec::new()]; 2];
+        let reference = sweep_and_prune(&b, SweepAxis::LargestVariance);
+        assert_eq!(sweep_and_prune(&b, SweepAxis::Grid3), reference);
+        for _ in 0..reps {
+            for (k, p) in pools.iter().enumerate() {
+                for (m, axis) in [SweepAxis::LargestVariance, SweepAxis::Grid3]
+                    .into_iter()
+                    .enumerate()
+                {
+                    let clock = Instant::now();
+                    p.install(|| sweep_and_prune(&b, axis));
+                    t[k][m].push(clock.elapsed().as_secs_f64() * 1e3);
+                }
+            }
+        }
+        for (k, threads) in [1, 2].into_iter().enumerate() {
+            let [v, g] = t[k].clone();
+            println!(
+                "| {n} | {} | {threads} | {:.3} | {:.3} |",
+                reference.len(),
+                median(v),
+                median(g)
+            );
+        }
+    }
+    let meshes = step_meshes(bunny);
+    let w = world(10_000, &meshes, 10_000);
+    println!("| 10,000-body step | threads | candidates, sweep (ms) | candidates, grid (ms) | first_contacts, sweep (ms) | first_contacts, grid (ms) |");
+    println!("|---|---:|---:|---:|---:|---:|");
+    let axes = [SweepAxis::LargestVariance, SweepAxis::Grid3];
+    let opts = axes.map(|axis| WorldOptions {
+        axis,
+        ..WorldOptions::default()
+    });
+    for (k, p) in [pool(1), pool(2)].iter().enumerate() {
+        let mut t = vec![Vec::new(); 4];
+        for _ in 0..7 {
+            for (m, o) in opts.iter().enumerate() {
+                let clock = Instant::now();
+                p.install(|| w.candidate_pairs(o)).expect("broad");
+                t[m].push(clock.elapsed().as_secs_f64() * 1e3);
+                let clock = Instant::now();
+                p.install(|| first_contacts(&w, o)).expect("contacts");
+                t[2 + m].push(clock.elapsed().as_secs_f64() * 1e3);
+            }
+        }
+        let m: Vec<f64> = t.into_iter().map(median).collect();
+        println!(
+            "| | {} | {:.2} | {:.2} | {:.2} | {:.2} |",
+            k + 1,
+            m[0],
+            m[1],
+            m[2],
+            m[3]
+        );
+    }
+}
+
 #[cfg(feature = "cuda")]
 fn gpu_broad() {
     use tocsin::world::gpu::GpuBroadPhase;
@@ -296,7 +363,8 @@ fn world(n: usize, meshes: &[Arc<TriMesh>], seed: u64) -> World {
     w
 }
 
-fn step(bunny: Option<&str>) {
+/// The step's three shared meshes: a knot, a plate, and the bunny (a smaller knot without it).
+fn step_meshes(bunny: Option<&str>) -> Vec<Arc<TriMesh>> {
     let mut meshes = vec![
         scaled(tocsin::mesh::torus_knot(120, 12).expect("knot"), 1.0),
         scaled(tocsin::mesh::plate(1.0, 8).expect("plate"), 1.0),
@@ -305,6 +373,11 @@ fn step(bunny: Option<&str>) {
         Some(Ok(b)) => meshes.push(scaled(b, 1.0)),
         _ => meshes.push(scaled(tocsin::mesh::torus_knot(60, 8).expect("knot"), 1.0)),
     }
+    meshes
+}
+
+fn step(bunny: Option<&str>) {
+    let meshes = step_meshes(bunny);
     let tris: Vec<usize> = meshes.iter().map(|m| m.num_triangles()).collect();
     println!("meshes (triangles): {tris:?}, bunny: {}", bunny.is_some());
     println!("| bodies | threads | candidates | narrow | contacts | broad phase (ms) | first_contacts (ms) | narrow phase (ms) | earliest_contact (ms) |");
@@ -350,6 +423,9 @@ fn main() {
     let what = args.get(1).map_or("all", String::as_str);
     if what == "broad" || what == "all" {
         broad();
+    }
+    if what == "grid" {
+        grid_broad(args.get(2).map(String::as_str));
     }
     #[cfg(feature = "cuda")]
     if what == "gpu" {

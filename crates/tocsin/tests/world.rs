@@ -140,7 +140,11 @@ fn sort_and_sweep_finds_every_overlapping_pair() {
     ] {
         let boxes = random_boxes(&mut r, n, size);
         let reference = all_pairs(&boxes);
-        for axis in [SweepAxis::Principal, SweepAxis::LargestVariance] {
+        for axis in [
+            SweepAxis::Principal,
+            SweepAxis::LargestVariance,
+            SweepAxis::Grid3,
+        ] {
             assert_eq!(sweep_and_prune(&boxes, axis), reference, "n = {n}");
         }
     }
@@ -252,7 +256,11 @@ fn sort_and_sweep_in_cells_handles_mixed_sizes_flat_scenes_and_bad_boxes() {
     let mut r = rng(17);
     for (what, boxes) in hard_box_sets(&mut r) {
         let reference = all_pairs(&boxes);
-        for axis in [SweepAxis::Principal, SweepAxis::LargestVariance] {
+        for axis in [
+            SweepAxis::Principal,
+            SweepAxis::LargestVariance,
+            SweepAxis::Grid3,
+        ] {
             assert_eq!(sweep_and_prune(&boxes, axis), reference, "{what}");
         }
         match what {
@@ -266,6 +274,25 @@ fn sort_and_sweep_in_cells_handles_mixed_sizes_flat_scenes_and_bad_boxes() {
             _ => assert!(!reference.is_empty(), "{what}"),
         }
     }
+}
+
+#[test]
+fn the_three_axis_grid_matches_the_sweep_on_large_sets() {
+    // 100,000 boxes sized for about two pairs each, with 300 walls and cubes (oversize for the
+    // grid, and a grid of their own among them), against the sweep in cells.
+    let mut r = rng(31);
+    let mut boxes = random_boxes(&mut r, 100_000, (1.0 / (16.0 * 100_000.0f64)).cbrt());
+    for k in 0..300 {
+        let c = Vec3::new(r.random(), r.random(), r.random());
+        let h = [Vec3::new(0.2, 0.01, 0.3), Vec3::splat(0.02)][k % 2];
+        boxes[k * 331] = Aabb {
+            min: c - h,
+            max: c + h,
+        };
+    }
+    let sweep = sweep_and_prune(&boxes, SweepAxis::LargestVariance);
+    assert!(sweep.len() > 100_000, "{}", sweep.len());
+    assert_eq!(sweep_and_prune(&boxes, SweepAxis::Grid3), sweep);
 }
 
 /// The GPU broad phase gives the CPU's pairs, in the CPU's order, on the hard sets and on

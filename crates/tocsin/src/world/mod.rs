@@ -21,6 +21,7 @@
 pub mod broad;
 #[cfg(feature = "cuda")]
 pub mod gpu;
+mod grid;
 pub mod swept;
 
 use crate::error::{ContactError, OptionsError};

@@ -12,8 +12,8 @@
 //! 1. `stats`: the valid boxes' low-corner extent, and a histogram of the boxes' widths (the
 //!    largest side) by binary exponent, with each bin's largest width;
 //! 2. on the host: the cell size is the largest width among all but at most
-//!    [`MAX_OVERSIZE`] `+ n / 16384` of the widest boxes (those are "oversize"), grown until the
-//!    grid has at most four cells per box;
+//!    [`MAX_OVERSIZE`] `+ n / 16384` of the widest boxes (those are "oversize", found by the
+//!    exponent histogram), and the grid is the CPU's (`world::grid`, at most four cells per box);
 //! 3. `assign`, a prefix sum and `scatter`: a counting sort of the regular boxes by the cell of
 //!    their low corner (boxes of one cell next to each other in memory);
 //! 4. `near_pairs`: two regular boxes that overlap have low corners less than a cell apart on
@@ -39,6 +39,7 @@
 // with the length the kernel indexes (`n` boxes of 6 doubles, `cells + 1` counters, the pair
 // total), and every index a kernel computes is bounded by a length passed beside it.
 
+use super::grid::CellGrid;
 use super::swept::Aabb;
 use cudarc::driver::{
     CudaContext, CudaFunction, CudaSlice, CudaStream, LaunchConfig, PushKernelArg,
@@ -421,7 +422,7 @@ fn plan(n: u32, bounds: &[u64], hist: &[u32], bin_max: &[u64]) -> Option<Plan> {
     if valid < 2 {
         return None;
     }
-    let allowed = (MAX_OVERSIZE as u64) + u64::from(n) / 16384;
+    let allowed = MAX_OVERSIZE as u64 + u64::from(n) / 16384;
     // The smallest exponent bin with at most `allowed` boxes in the bins above it.
     let mut above = 0u64;
     let mut cut = EXP_BINS - 1;
@@ -447,37 +448,11 @@ fn plan(n: u32, bounds: &[u64], hist: &[u32], bin_max: &[u64]) -> Option<Plan> {
         unordered(bounds[4]),
         unordered(bounds[5]),
     ];
-    let span = [hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]];
-    let largest = lo
-        .iter()
-        .chain(hi.iter())
-        .fold(0.0f64, |m, v| m.max(v.abs()));
-    // Rounding slack: the quotient (v - origin) / size is off by a few units in the last place
-    // of the coordinates; the relative margin keeps two corners a width apart within one cell.
-    let slack = 8.0 * f64::EPSILON * largest;
-    let mut size = (wmax * (1.0 + 1e-6) + slack).max(f64::MIN_POSITIVE);
-    // (Cell numbers are 32-bit in the kernels.)
-    let most = (4.0 * valid as f64 + 64.0).min(f64::from(1u32 << 31));
-    let count = |size: f64| span.map(|s| (s / size).floor() + 1.0);
-    let cells = |c: [f64; 3]| c[0] * c[1] * c[2];
-    if cells(count(size)) > most {
-        // Start from the size that would give `most` cells over the non-flat axes, then grow.
-        let (prod, dims) = span
-            .iter()
-            .filter(|&&s| s > 0.0)
-            .fold((1.0, 0i32), |(p, d), &s| (p * s, d + 1));
-        if dims > 0 {
-            size = size.max((prod / most).powf(1.0 / f64::from(dims)));
-        }
-        while cells(count(size)) > most {
-            size *= 1.25;
-        }
-    }
-    let c = count(size);
+    let grid = CellGrid::new(valid, lo, hi, wmax);
     Some(Plan {
-        origin: lo,
-        size,
-        n: c.map(|v| v as u32),
+        origin: grid.origin,
+        size: grid.size,
+        n: grid.n,
         wmax,
         oversize: oversize as u32,
     })
