@@ -31,7 +31,11 @@
 //!
 //! Limits: fewer than 2^31 boxes (an error beyond), and list places are 32-bit, so the answer
 //! is right only below 2^32 pairs (a partners buffer of 16 GiB; the CPU path has no such
-//! limit).
+//! limit). Speed: where more than `64 + n / 16384` boxes are much wider than the rest, the
+//! widest regular ones set the cell size and the cells fill up (the answer stays exact, the
+//! time grows towards all pairs): the CPU's grid handles any number of wide boxes (each scans
+//! the cells its range covers), which a GPU kernel could do too; not built, as this session's
+//! device time was spent.
 #![allow(unsafe_code)]
 // SAFETY (the module's one concern): kernel launches are `unsafe` in cudarc because the
 // arguments cannot be checked against the kernel's signature. Each launch below passes the
