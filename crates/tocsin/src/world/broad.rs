@@ -25,9 +25,10 @@
 //! [`SweepAxis::LargestVariance`] the coordinate axes, the one of largest variance first: on
 //! coordinate axes the projections are the boxes themselves (no rotated box grows, and the
 //! overlap test needs no second read of the boxes), which measured 1.4 to 2.4 times faster on
-//! random boxes (docs/BENCHMARKS.md). [`SweepAxis::Grid3`], the default, does not sweep: a
-//! counting sort into cells on all three axes (`world::grid`), 18 to 35% faster again. The
-//! pairs come back sorted, so the result does not depend on the thread count or the method.
+//! random boxes (docs/BENCHMARKS.md): the default. [`SweepAxis::Grid3`] does not sweep: a
+//! counting sort into cells on all three axes (`world::grid`), faster again on dense sets of
+//! boxes, level on a world's. The pairs come back sorted, so the result does not depend on the
+//! thread count or the method.
 
 use super::grid::holds_something;
 use super::swept::Aabb;
@@ -40,14 +41,15 @@ use rayon::prelude::*;
 pub enum SweepAxis {
     /// The principal axes of the box centres.
     Principal,
-    /// The coordinate axes, the one with the largest variance of the box centres first
-    /// (measured 1.4 to 2.4 times faster than the principal axes, docs/BENCHMARKS.md).
+    /// The coordinate axes, the one with the largest variance of the box centres first (the
+    /// default: measured 1.4 to 2.4 times faster than the principal axes, docs/BENCHMARKS.md).
+    #[default]
     LargestVariance,
     /// No sweep: a grid of cells on all three axes as wide as the widest regular box, each box
-    /// against the 27 cells around its own (the GPU's plan; `world::grid`'s module docs). The
-    /// default: 18 to 35% faster than the sweep in the coordinate frame from 500 to a million
-    /// random boxes (docs/BENCHMARKS.md, twenty-fifth session).
-    #[default]
+    /// against the 27 cells around its own (the GPU's plan; `world::grid`'s module docs). On
+    /// dense sets of boxes (two pairs each), 14 to 36% faster than the sweep from 500 to a
+    /// million boxes; on the 10,000-body world's swept boxes level with it or up to 10% slower
+    /// (docs/BENCHMARKS.md, twenty-fifth session), so not the default.
     Grid3,
 }
 

@@ -15,6 +15,10 @@
 //! corners a width apart two cells apart; the grid has at most about four cells per box (the
 //! cells grow where the boxes' extent would need more).
 //!
+//! Where the boxes' extent would need more than that many cells of that size (a far outlier, a
+//! sparse world, boxes that are points), cells grown to fit would hold clusters whole; the
+//! CPU then answers with the sweep in the coordinate frame, which sorts inside its cells.
+//!
 //! On the CPU the regular boxes are those at most twice the median width wide, as the sweep's
 //! cells are twice the median width (the cells as wide as the widest of them): an oversize box
 //! costs the cells its range covers, so many may be; the oversize boxes against each other are
@@ -35,6 +39,9 @@ pub(crate) struct CellGrid {
     pub origin: [f64; 3],
     pub size: f64,
     pub n: [u32; 3],
+    /// Whether the cells had to grow to more than twice the width asked for (the extent would
+    /// have needed too many).
+    pub coarse: bool,
 }
 
 impl CellGrid {
@@ -48,7 +55,8 @@ impl CellGrid {
             .chain(hi.iter())
             .fold(0.0f64, |m, v| m.max(v.abs()));
         let slack = 8.0 * f64::EPSILON * largest;
-        let mut size = (wmax * (1.0 + 1e-6) + slack).max(f64::MIN_POSITIVE);
+        let base = (wmax * (1.0 + 1e-6) + slack).max(f64::MIN_POSITIVE);
+        let mut size = base;
         let most = (4.0 * valid as f64 + 64.0).min(f64::from(1u32 << 31));
         let count = |size: f64| span.map(|s| (s / size).floor() + 1.0);
         let cells = |c: [f64; 3]| c[0] * c[1] * c[2];
@@ -69,6 +77,7 @@ impl CellGrid {
             origin: lo,
             size,
             n: count(size).map(|v| v as u32),
+            coarse: size > 2.0 * base,
         }
     }
 
@@ -146,6 +155,15 @@ pub(crate) fn grid_pairs(boxes: &[Aabb]) -> Vec<(u32, u32)> {
             },
         );
     let grid = CellGrid::new(valid, lo, hi, wmax);
+    if grid.size
+        > 2.0 * (wmax * (1.0 + 1e-6))
+            + 16.0 * f64::EPSILON * lo.iter().fold(0.0f64, |m, v| m.max(v.abs()))
+    {
+        // The boxes' extent needs more cells than the grid may have (a far outlier, a sparse
+        // world, boxes that are points): cells that coarse would hold clusters whole, which
+        // the sweep's sorted cells take in their stride.
+        return super::broad::sweep_and_prune(boxes, super::broad::SweepAxis::LargestVariance);
+    }
     let regular = |i: usize| widths[i] >= 0.0 && widths[i] <= wmax;
     let corner = |b: &Aabb| [0, 1, 2].map(|k| grid.coord(b.min[k], k));
     // The counting sort: each regular box in its low corner's cell, cells in order, boxes in
