@@ -296,7 +296,7 @@ fn gpu_broad() {
                 t[k].push(clock.elapsed().as_secs_f64() * 1e3);
             }
             let clock = Instant::now();
-            let pairs = gpu.pairs(&up).expect("pairs");
+            let pairs = gpu.pairs(&up).expect("pairs").expect("a GPU plan");
             t[3].push(clock.elapsed().as_secs_f64() * 1e3);
             let v = pools[2].install(|| pairs.to_vec()).expect("to host");
             t[4].push(clock.elapsed().as_secs_f64() * 1e3);

@@ -31,11 +31,12 @@
 //!
 //! Limits: fewer than 2^31 boxes (an error beyond), and list places are 32-bit, so the answer
 //! is right only below 2^32 pairs (a partners buffer of 16 GiB; the CPU path has no such
-//! limit). Speed: where more than `64 + n / 16384` boxes are much wider than the rest, the
-//! widest regular ones set the cell size and the cells fill up (the answer stays exact, the
-//! time grows towards all pairs): the CPU's grid handles any number of wide boxes (each scans
-//! the cells its range covers), which a GPU kernel could do too; not built, as this session's
-//! device time was spent.
+//! limit). Boxes the grid would take badly go to the CPU's sweep instead, decided on the host
+//! from the statistics: more than `64 + n / 16384` boxes over four times the median width (they
+//! would set the cell size), or low corners spread over more than four cells per box (a far
+//! outlier: the cells would grow and hold clusters whole). [`GpuBroadPhase::pairs`] answers
+//! `None` for those and [`GpuBroadPhase::sweep_and_prune`] runs the CPU's sweep; this decision
+//! was added after the device runs, so it has not run on a GPU (its host logic is tested).
 #![allow(unsafe_code)]
 // SAFETY (the module's one concern): kernel launches are `unsafe` in cudarc because the
 // arguments cannot be checked against the kernel's signature. Each launch below passes the
@@ -162,6 +163,19 @@ pub struct GpuBroadPhase {
     kernels: Vec<CudaFunction>,
 }
 
+/// What the host decides from the `stats` kernel's answer.
+enum Planned {
+    /// Fewer than two valid boxes.
+    Empty,
+    /// The grid and the oversize split.
+    Grid(Plan),
+    /// Cells that would be too coarse for the GPU's plan: more boxes much wider than the median
+    /// than it keeps out (they would set the cell size), or an extent that needs more cells
+    /// than the grid may have (a far outlier; boxes that are points). The CPU's sweep sorts
+    /// inside its cells and takes these in its stride.
+    Cpu,
+}
+
 /// The grid and the oversize split the host chooses from the `stats` kernel's answer.
 struct Plan {
     origin: [f64; 3],
@@ -217,7 +231,14 @@ impl GpuBroadPhase {
     /// copied back, sorted. The same pairs in the same order as the CPU's.
     pub fn sweep_and_prune(&self, boxes: &[Aabb]) -> Result<Vec<(u32, u32)>, GpuError> {
         let on_gpu = self.upload(boxes)?;
-        self.pairs(&on_gpu)?.to_vec()
+        match self.pairs(&on_gpu)? {
+            Some(pairs) => pairs.to_vec(),
+            // Boxes the GPU's cells would take badly: the CPU's sweep (see `pairs`).
+            None => Ok(super::broad::sweep_and_prune(
+                boxes,
+                super::broad::SweepAxis::LargestVariance,
+            )),
+        }
     }
 
     /// Copies boxes to the GPU.
@@ -243,8 +264,11 @@ impl GpuBroadPhase {
     }
 
     /// Every overlapping pair of the uploaded boxes, found on the GPU and left there (the call
-    /// returns once they are found).
-    pub fn pairs(&self, boxes: &GpuBoxes) -> Result<GpuPairs, GpuError> {
+    /// returns once they are found); `None` for boxes the GPU's grid would take badly (more
+    /// than `64 + n / 16384` boxes over four times the median width, or an extent needing more
+    /// cells than four per box, as a far outlier does): the CPU's sweep answers those
+    /// ([`Self::sweep_and_prune`] falls back to it).
+    pub fn pairs(&self, boxes: &GpuBoxes) -> Result<Option<GpuPairs>, GpuError> {
         let n = boxes.n;
         let empty = GpuPairs {
             offsets: None,
@@ -254,7 +278,7 @@ impl GpuBroadPhase {
             stream: self.stream.clone(),
         };
         if n < 2 {
-            return Ok(empty);
+            return Ok(Some(empty));
         }
         let s = &self.stream;
         let k = &self.kernels;
@@ -275,8 +299,10 @@ impl GpuBroadPhase {
         let hist = s.clone_dtoh(&hist)?;
         let bin_max = s.clone_dtoh(&bin_max)?;
         s.synchronize()?;
-        let Some(plan) = plan(n, &bounds, &hist, &bin_max) else {
-            return Ok(empty);
+        let plan = match plan(n, &bounds, &hist, &bin_max) {
+            Planned::Empty => return Ok(Some(empty)),
+            Planned::Cpu => return Ok(None),
+            Planned::Grid(plan) => plan,
         };
         // 2. the counting sort into cells
         let cells = plan.n[0] as usize * plan.n[1] as usize * plan.n[2] as usize;
@@ -355,7 +381,7 @@ impl GpuBroadPhase {
                 s.synchronize()?;
                 let total = total.first().copied().unwrap_or(0) as usize;
                 if total == 0 {
-                    return Ok(empty);
+                    return Ok(Some(empty));
                 }
                 partners = s.alloc_zeros::<u32>(total)?;
             } else {
@@ -377,13 +403,13 @@ impl GpuBroadPhase {
         }
         s.synchronize()?;
         let total = partners.len();
-        Ok(GpuPairs {
+        Ok(Some(GpuPairs {
             offsets: Some(count),
             partners: Some(partners),
             n,
             total,
             stream: self.stream.clone(),
-        })
+        }))
     }
 
     /// Exclusive prefix sum of the first `n` values, in place.
@@ -421,10 +447,10 @@ fn unordered(u: u64) -> f64 {
 
 /// The grid and the oversize split (module docs, step 2); `None` when fewer than two boxes are
 /// valid.
-fn plan(n: u32, bounds: &[u64], hist: &[u32], bin_max: &[u64]) -> Option<Plan> {
+fn plan(n: u32, bounds: &[u64], hist: &[u32], bin_max: &[u64]) -> Planned {
     let valid: u64 = hist.iter().map(|&c| u64::from(c)).sum();
     if valid < 2 {
-        return None;
+        return Planned::Empty;
     }
     let allowed = MAX_OVERSIZE as u64 + u64::from(n) / 16384;
     // The smallest exponent bin with at most `allowed` boxes in the bins above it.
@@ -453,7 +479,19 @@ fn plan(n: u32, bounds: &[u64], hist: &[u32], bin_max: &[u64]) -> Option<Plan> {
         unordered(bounds[5]),
     ];
     let grid = CellGrid::new(valid, lo, hi, wmax);
-    Some(Plan {
+    // The median width, from above: the largest width of the bin holding it.
+    let mut below = 0u64;
+    let median_bin = (0..EXP_BINS)
+        .find(|&e| {
+            below += u64::from(hist[e]);
+            2 * below > valid
+        })
+        .unwrap_or(EXP_BINS - 1);
+    let median_above = f64::from_bits(bin_max[median_bin]);
+    if grid.coarse || wmax > 4.0 * median_above {
+        return Planned::Cpu;
+    }
+    Planned::Grid(Plan {
         origin: grid.origin,
         size: grid.size,
         n: grid.n,
@@ -515,17 +553,26 @@ mod tests {
                 !(bits as u64)
             }
         };
-        let bounds = [enc(0.0), enc(0.0), enc(0.0), enc(1.0), enc(1.0), enc(1.0)];
-        let p = plan(1003, &bounds, &hist, &bin_max).expect("a plan");
+        // Low corners over a cube of side 0.1: 11^3 cells of 0.01, under four per box.
+        let bounds = [enc(0.0), enc(0.0), enc(0.0), enc(0.1), enc(0.1), enc(0.1)];
+        let Planned::Grid(p) = plan(1003, &bounds, &hist, &bin_max) else {
+            unreachable!("a grid for 1,000 small boxes and 3 walls")
+        };
         assert_eq!(p.oversize, 3);
         assert_eq!(p.wmax, 0.01);
         assert!(p.size >= 0.01 * (1.0 + 1e-6));
         let cells = p.n.iter().map(|&c| f64::from(c)).product::<f64>();
         assert!(cells <= 4.0 * 1003.0 + 64.0, "{cells} cells");
-        // Without oversize room, every box is regular: cells as wide as the widest.
-        hist[e_big] = 1000;
-        let p = plan(2000, &bounds, &hist, &bin_max).expect("a plan");
-        assert_eq!(p.oversize, 0);
-        assert_eq!(p.wmax, 10.0);
+        // More walls than it keeps out (100 > 64) would set the cells: the CPU's sweep is asked.
+        hist[e_big] = 100;
+        assert!(matches!(plan(1100, &bounds, &hist, &bin_max), Planned::Cpu));
+        // Nor where the extent needs too many cells (one box far away).
+        hist[e_big] = 3;
+        let far = [enc(0.0), enc(0.0), enc(0.0), enc(1e6), enc(0.1), enc(0.1)];
+        assert!(matches!(plan(1003, &far, &hist, &bin_max), Planned::Cpu));
+        // Fewer than two valid boxes: nothing to pair.
+        let mut one = vec![0u32; EXP_BINS];
+        one[e_small] = 1;
+        assert!(matches!(plan(1, &bounds, &one, &bin_max), Planned::Empty));
     }
 }
