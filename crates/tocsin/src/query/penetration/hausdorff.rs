@@ -46,8 +46,8 @@
 //! Against such a copy no node bigger than a few triangles is ever settled by its probe (the
 //! volume's radius stays far above the error), and the probes of the nodes above the
 //! triangles were most of the work. The search counts, per size class of node (log2 of its
-//! triangle count), how many of its probes settled the node; once a class has [`SKIP_AFTER`]
-//! probes and fewer than one in [`SKIP_RATE`] settled, its nodes are no longer probed: a child
+//! triangle count), how many of its probes settled the node; once a class has `SKIP_AFTER` (16)
+//! probes and fewer than one in `SKIP_RATE` (16) settled, its nodes are no longer probed: a child
 //! keeps its parent's bound (it is part of the parent) and is split when it comes up; skipped
 //! nodes add no count, so the decision holds for the rest of the query (knot2.8k
 //! against the copy moved by (0.3, 0.1, 0.05), one-thread instructions per symmetric query at
