@@ -575,4 +575,89 @@ mod tests {
         one[e_small] = 1;
         assert!(matches!(plan(1, &bounds, &one, &bin_max), Planned::Empty));
     }
+
+    /// The `stats` kernel's answer computed on the CPU (the same rules: valid boxes only, the
+    /// low corners' extent as ordered bits, widths by binary exponent).
+    fn stats_on_cpu(boxes: &[Aabb]) -> ([u64; 6], Vec<u32>, Vec<u64>) {
+        let enc = |v: f64| {
+            let bits = v.to_bits() as i64;
+            if bits >= 0 {
+                (bits as u64) | (1 << 63)
+            } else {
+                !(bits as u64)
+            }
+        };
+        let mut bounds = [u64::MAX, u64::MAX, u64::MAX, 0, 0, 0];
+        let mut hist = vec![0u32; EXP_BINS];
+        let mut bin_max = vec![0u64; EXP_BINS];
+        for b in boxes {
+            if !(b.min.is_finite() && b.max.is_finite() && b.min.cmple(b.max).all()) {
+                continue;
+            }
+            for k in 0..3 {
+                bounds[k] = bounds[k].min(enc(b.min[k]));
+                bounds[3 + k] = bounds[3 + k].max(enc(b.min[k]));
+            }
+            let w = (b.max - b.min).max_element();
+            let e = ((w.to_bits() >> 52) & 0x7ff) as usize;
+            hist[e] += 1;
+            bin_max[e] = bin_max[e].max(w.to_bits());
+        }
+        (bounds, hist, bin_max)
+    }
+
+    #[test]
+    fn the_measured_sets_take_the_gpu_grid_and_outliers_the_cpu() {
+        use crate::math::Vec3;
+        // The benchmark's boxes (about two pairs each) and the device test's 200,000 with 40
+        // walls, from a small generator: the plan the device runs took must still be a grid.
+        let mut state = 12345u64;
+        let mut unit = move || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for n in [10_000usize, 100_000] {
+            let s = (1.0 / (16.0 * n as f64)).cbrt();
+            let boxes: Vec<Aabb> = (0..n)
+                .map(|_| {
+                    let c = Vec3::new(unit(), unit(), unit());
+                    Aabb {
+                        min: c - Vec3::splat(s),
+                        max: c + Vec3::splat(s),
+                    }
+                })
+                .collect();
+            let (bounds, hist, bin_max) = stats_on_cpu(&boxes);
+            assert!(matches!(
+                plan(n as u32, &bounds, &hist, &bin_max),
+                Planned::Grid(_)
+            ));
+            let mut walled = boxes.clone();
+            for k in 0..40 {
+                let c = Vec3::new(unit(), unit(), unit());
+                walled[k * (n / 41)] = Aabb {
+                    min: c - Vec3::new(0.2, 0.01, 0.3),
+                    max: c + Vec3::new(0.2, 0.01, 0.3),
+                };
+            }
+            let (bounds, hist, bin_max) = stats_on_cpu(&walled);
+            let Planned::Grid(p) = plan(n as u32, &bounds, &hist, &bin_max) else {
+                unreachable!("walls within the allowance keep the grid")
+            };
+            assert_eq!(p.oversize, 40);
+            // One box far away: the CPU's sweep.
+            let mut far = boxes;
+            far[7] = Aabb {
+                min: Vec3::splat(1e6),
+                max: Vec3::splat(1e6 + 0.01),
+            };
+            let (bounds, hist, bin_max) = stats_on_cpu(&far);
+            assert!(matches!(
+                plan(n as u32, &bounds, &hist, &bin_max),
+                Planned::Cpu
+            ));
+        }
+    }
 }
