@@ -521,16 +521,25 @@ mod tests {
         }
     }
 
+    /// `kernels.cu`'s `ordered`: a double's bits as an unsigned integer of the same order.
+    fn ordered(v: f64) -> u64 {
+        let bits = v.to_bits() as i64;
+        if bits >= 0 {
+            (bits as u64) | (1 << 63)
+        } else {
+            !(bits as u64)
+        }
+    }
+
     #[test]
     fn ordered_bits_round_trip() {
-        for b in [-3.5f64, -0.0, 0.0, 1e-300, 2.0, -1e300] {
-            let bits = b.to_bits() as i64;
-            let ordered = if bits >= 0 {
-                (bits as u64) | (1 << 63)
-            } else {
-                !(bits as u64)
-            };
-            assert_eq!(unordered(ordered).to_bits(), b.to_bits());
+        let values = [-1e300, -3.5f64, -0.0, 0.0, 1e-300, 2.0, 1e300];
+        for b in values {
+            assert_eq!(unordered(ordered(b)).to_bits(), b.to_bits());
+        }
+        // The order is the values' (the kernels take minima and maxima of the bits).
+        for w in values.windows(2) {
+            assert!(ordered(w[0]) < ordered(w[1]), "{w:?}");
         }
     }
 
@@ -545,16 +554,15 @@ mod tests {
         bin_max[e_small] = 0.01f64.to_bits();
         hist[e_big] = 3;
         bin_max[e_big] = 10.0f64.to_bits();
-        let enc = |v: f64| {
-            let bits = v.to_bits() as i64;
-            if bits >= 0 {
-                (bits as u64) | (1 << 63)
-            } else {
-                !(bits as u64)
-            }
-        };
         // Low corners over a cube of side 0.1: 11^3 cells of 0.01, under four per box.
-        let bounds = [enc(0.0), enc(0.0), enc(0.0), enc(0.1), enc(0.1), enc(0.1)];
+        let bounds = [
+            ordered(0.0),
+            ordered(0.0),
+            ordered(0.0),
+            ordered(0.1),
+            ordered(0.1),
+            ordered(0.1),
+        ];
         let Planned::Grid(p) = plan(1003, &bounds, &hist, &bin_max) else {
             unreachable!("a grid for 1,000 small boxes and 3 walls")
         };
@@ -568,7 +576,14 @@ mod tests {
         assert!(matches!(plan(1100, &bounds, &hist, &bin_max), Planned::Cpu));
         // Nor where the extent needs too many cells (one box far away).
         hist[e_big] = 3;
-        let far = [enc(0.0), enc(0.0), enc(0.0), enc(1e6), enc(0.1), enc(0.1)];
+        let far = [
+            ordered(0.0),
+            ordered(0.0),
+            ordered(0.0),
+            ordered(1e6),
+            ordered(0.1),
+            ordered(0.1),
+        ];
         assert!(matches!(plan(1003, &far, &hist, &bin_max), Planned::Cpu));
         // Fewer than two valid boxes: nothing to pair.
         let mut one = vec![0u32; EXP_BINS];
@@ -579,14 +594,6 @@ mod tests {
     /// The `stats` kernel's answer computed on the CPU (the same rules: valid boxes only, the
     /// low corners' extent as ordered bits, widths by binary exponent).
     fn stats_on_cpu(boxes: &[Aabb]) -> ([u64; 6], Vec<u32>, Vec<u64>) {
-        let enc = |v: f64| {
-            let bits = v.to_bits() as i64;
-            if bits >= 0 {
-                (bits as u64) | (1 << 63)
-            } else {
-                !(bits as u64)
-            }
-        };
         let mut bounds = [u64::MAX, u64::MAX, u64::MAX, 0, 0, 0];
         let mut hist = vec![0u32; EXP_BINS];
         let mut bin_max = vec![0u64; EXP_BINS];
@@ -595,8 +602,8 @@ mod tests {
                 continue;
             }
             for k in 0..3 {
-                bounds[k] = bounds[k].min(enc(b.min[k]));
-                bounds[3 + k] = bounds[3 + k].max(enc(b.min[k]));
+                bounds[k] = bounds[k].min(ordered(b.min[k]));
+                bounds[3 + k] = bounds[3 + k].max(ordered(b.min[k]));
             }
             let w = (b.max - b.min).max_element();
             let e = ((w.to_bits() >> 52) & 0x7ff) as usize;
