@@ -126,9 +126,14 @@ pub fn sweep_and_prune(boxes: &[Aabb], axis: SweepAxis) -> Vec<(u32, u32)> {
                 hi[k] = b.max[axis];
             } else {
                 let (c, h) = (b.center(), b.half_extents());
-                let (m, r) = (c.dot(frame[k]), h.dot(frame[k].abs()));
-                lo[k] = m - r;
-                hi[k] = m + r;
+                let d = frame[k].abs();
+                let (m, r) = (c.dot(frame[k]), h.dot(d));
+                // Widened by a bound on the rounding of the centre, the half extents and the
+                // dot products, so that the projection holds the box's own (a point touching a
+                // box's corner was missed without it); the exact test of the boxes decides.
+                let slack = 8.0 * f64::EPSILON * (c.abs().dot(d) + r);
+                lo[k] = m - r - slack;
+                hi[k] = m + r + slack;
             }
         }
         (lo, hi)
