@@ -96,6 +96,13 @@ fn swept_box_of_a_pure_translation_is_the_hull_of_its_ends() {
     assert_eq!(b.max, Vec3::new(11.5, 2.5, 3.5));
 }
 
+/// Every broad-phase method (each must give `all_pairs`' answer).
+const METHODS: [SweepAxis; 3] = [
+    SweepAxis::Principal,
+    SweepAxis::LargestVariance,
+    SweepAxis::Grid3,
+];
+
 fn random_boxes(rng: &mut impl Rng, n: usize, size: f64) -> Vec<Aabb> {
     (0..n)
         .map(|i| {
@@ -140,11 +147,7 @@ fn sort_and_sweep_finds_every_overlapping_pair() {
     ] {
         let boxes = random_boxes(&mut r, n, size);
         let reference = all_pairs(&boxes);
-        for axis in [
-            SweepAxis::Principal,
-            SweepAxis::LargestVariance,
-            SweepAxis::Grid3,
-        ] {
+        for axis in METHODS {
             assert_eq!(sweep_and_prune(&boxes, axis), reference, "n = {n}");
         }
     }
@@ -256,11 +259,7 @@ fn sort_and_sweep_in_cells_handles_mixed_sizes_flat_scenes_and_bad_boxes() {
     let mut r = rng(17);
     for (what, boxes) in hard_box_sets(&mut r) {
         let reference = all_pairs(&boxes);
-        for axis in [
-            SweepAxis::Principal,
-            SweepAxis::LargestVariance,
-            SweepAxis::Grid3,
-        ] {
+        for axis in METHODS {
             assert_eq!(sweep_and_prune(&boxes, axis), reference, "{what}");
         }
         match what {
@@ -339,11 +338,7 @@ fn every_method_matches_all_pairs_on_random_mixtures() {
             boxes[0].max += Vec3::splat(1e9);
         }
         let reference = all_pairs(&boxes);
-        for axis in [
-            SweepAxis::Principal,
-            SweepAxis::LargestVariance,
-            SweepAxis::Grid3,
-        ] {
+        for axis in METHODS {
             assert_eq!(
                 sweep_and_prune(&boxes, axis),
                 reference,

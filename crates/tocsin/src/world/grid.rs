@@ -112,6 +112,12 @@ pub(crate) fn holds_something(b: &Aabb) -> bool {
     b.min.is_finite() && b.max.is_finite() && b.min.cmple(b.max).all()
 }
 
+/// A box as six numbers: min x y z, max x y z (the layout the grid and the GPU's kernels read).
+#[inline]
+pub(crate) fn flat(b: &Aabb) -> [f64; 6] {
+    [b.min.x, b.min.y, b.min.z, b.max.x, b.max.y, b.max.z]
+}
+
 /// A box's largest side.
 #[inline]
 fn width(b: &Aabb) -> f64 {
@@ -194,10 +200,7 @@ pub(crate) fn grid_pairs(boxes: &[Aabb]) -> Vec<(u32, u32)> {
         if c != u32::MAX {
             let b = &boxes[i];
             let at = &mut fill[c as usize];
-            sorted[*at as usize] = (
-                i as u32,
-                [b.min.x, b.min.y, b.min.z, b.max.x, b.max.y, b.max.z],
-            );
+            sorted[*at as usize] = (i as u32, flat(b));
             *at += 1;
         }
     }
@@ -221,9 +224,9 @@ pub(crate) fn grid_pairs(boxes: &[Aabb]) -> Vec<(u32, u32)> {
     let below = |c: [u32; 3]| c.map(|v| v.saturating_sub(1));
     let above = |c: [u32; 3]| [0, 1, 2].map(|k| (c[k] + 1).min(grid.n[k] - 1));
     // Regular boxes against the 27 cells around their own, in cell order (neighbours are read
-    // from memory nearby), then the pairs sorted.
+    // from memory nearby); all pairs are sorted at the end.
     let chunk = 2048;
-    let mut regular_pairs: Vec<(u32, u32)> = (0..sorted.len().div_ceil(chunk))
+    let mut pairs: Vec<(u32, u32)> = (0..sorted.len().div_ceil(chunk))
         .into_par_iter()
         .flat_map_iter(|c| {
             let mut out = Vec::new();
@@ -238,20 +241,16 @@ pub(crate) fn grid_pairs(boxes: &[Aabb]) -> Vec<(u32, u32)> {
             out
         })
         .collect();
-    regular_pairs.par_sort_unstable();
     let oversize: Vec<usize> = (0..n)
         .filter(|&i| widths[i] >= 0.0 && !regular(i))
         .collect();
-    if oversize.is_empty() {
-        return regular_pairs;
-    }
     // Oversize boxes against the regular boxes whose low corners lie in the cells of their own
     // range (one more below).
-    let mut extra: Vec<(u32, u32)> = oversize
+    let extra: Vec<(u32, u32)> = oversize
         .par_iter()
         .flat_map_iter(|&o| {
             let b = &boxes[o];
-            let a = [b.min.x, b.min.y, b.min.z, b.max.x, b.max.y, b.max.z];
+            let a = flat(b);
             let to = [0, 1, 2].map(|k| grid.coord(b.max[k], k));
             let mut out = Vec::new();
             scan(below(corner(b)), to, &mut |j, other| {
@@ -262,27 +261,16 @@ pub(crate) fn grid_pairs(boxes: &[Aabb]) -> Vec<(u32, u32)> {
             out
         })
         .collect();
+    pairs.extend(extra);
     // Oversize boxes against each other: the same search on them alone (their own median).
-    let wide: Vec<Aabb> = oversize.iter().map(|&o| boxes[o]).collect();
-    extra.extend(
-        grid_pairs(&wide)
-            .into_iter()
-            .map(|(a, b)| (oversize[a as usize] as u32, oversize[b as usize] as u32)),
-    );
-    extra.par_sort_unstable();
-    // The two sorted lists merged.
-    let mut pairs = Vec::with_capacity(regular_pairs.len() + extra.len());
-    let (mut r, mut e) = (regular_pairs.iter().peekable(), extra.iter().peekable());
-    while let (Some(&&x), Some(&&y)) = (r.peek(), e.peek()) {
-        if x <= y {
-            pairs.push(x);
-            r.next();
-        } else {
-            pairs.push(y);
-            e.next();
-        }
+    if oversize.len() >= 2 {
+        let wide: Vec<Aabb> = oversize.iter().map(|&o| boxes[o]).collect();
+        pairs.extend(
+            grid_pairs(&wide)
+                .into_iter()
+                .map(|(a, b)| (oversize[a as usize] as u32, oversize[b as usize] as u32)),
+        );
     }
-    pairs.extend(r);
-    pairs.extend(e);
+    pairs.par_sort_unstable();
     pairs
 }

@@ -44,7 +44,7 @@
 // with the length the kernel indexes (`n` boxes of 6 doubles, `cells + 1` counters, the pair
 // total), and every index a kernel computes is bounded by a length passed beside it.
 
-use super::grid::CellGrid;
+use super::grid::{flat, CellGrid};
 use super::swept::Aabb;
 use cudarc::driver::{
     CudaContext, CudaFunction, CudaSlice, CudaStream, LaunchConfig, PushKernelArg,
@@ -247,18 +247,19 @@ impl GpuBroadPhase {
             .ok()
             .filter(|&n| n < u32::MAX / 2)
             .ok_or_else(|| GpuError("more than 2^31 boxes".into()))?;
-        let mut flat = vec![0.0f64; 6 * boxes.len()];
-        flat.par_chunks_mut(6 * 4096)
+        let mut numbers = vec![0.0f64; 6 * boxes.len()];
+        numbers
+            .par_chunks_mut(6 * 4096)
             .zip(boxes.par_chunks(4096))
             .for_each(|(out, bs)| {
                 for (o, b) in out.chunks_exact_mut(6).zip(bs) {
-                    o.copy_from_slice(&[b.min.x, b.min.y, b.min.z, b.max.x, b.max.y, b.max.z]);
+                    o.copy_from_slice(&flat(b));
                 }
             });
-        let data = if flat.is_empty() {
+        let data = if numbers.is_empty() {
             self.stream.alloc_zeros::<f64>(6)?
         } else {
-            self.stream.clone_htod(&flat)?
+            self.stream.clone_htod(&numbers)?
         };
         Ok(GpuBoxes { data, n })
     }
