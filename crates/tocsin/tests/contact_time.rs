@@ -102,7 +102,20 @@ fn check(
                 "{label}: distance {bd} at t = {} exceeds delta {delta}",
                 c.time
             );
-            assert_rel(c.distance, bd, 1e-9, 1e-12 * delta, "reported distance");
+            // The brute force works on world points, which round at the bodies' distance from
+            // the origin (the query itself works in body 1's frame).
+            let world = p1.translation.length()
+                + p2.translation.length()
+                + m1.bounding_radius()
+                + m2.bounding_radius();
+            let rounding = 16.0 * f64::EPSILON * world;
+            assert_rel(
+                c.distance,
+                bd,
+                1e-9,
+                1e-12 * delta + rounding,
+                "reported distance",
+            );
             if let Some((_, hi)) = first {
                 assert!(
                     c.time <= hi,
@@ -631,4 +644,70 @@ fn turning_in_close_fits_against_sampling() {
         assert!(must, "{label}: no contact at tolerance {}", closest / 0.4);
         check(turning, mo, fixed, &still, Some(closest / 0.9), label);
     }
+}
+
+#[test]
+fn far_from_the_origin_and_at_extreme_scales() {
+    // Soups of 1e-7 to 1e7 (the two bodies up to 1,000 times apart in size), up to 1e6 of
+    // their size away from the origin, every motion kind: the contract as everywhere, and the
+    // normal unit and pointing from body 1 to body 2 (it was off unit length by 3e-8 far from
+    // the origin, when it was the world points' difference over the distance).
+    let mut rng = rng(91);
+    let mut hits = 0;
+    let cases = 120;
+    for case in 0..cases {
+        let scale = 10f64.powi(rng.random_range(-7..=7));
+        let offset = 10f64.powi(rng.random_range(0..=6)) * scale * random_unit(&mut rng);
+        let scale2 = if case % 3 == 0 {
+            scale * 10f64.powi(rng.random_range(-3..=3))
+        } else {
+            scale
+        };
+        let n1 = 2 + rng.random_range(0..20);
+        let m1 = random_soup(&mut rng, n1, scale);
+        let n2 = 2 + rng.random_range(0..20);
+        let m2 = random_soup(&mut rng, n2, scale2);
+        let dir = random_unit(&mut rng);
+        let reach = scale.max(scale2) * rng.random_range(1.0..5.0);
+        let s1 = Pose {
+            rotation: random_rotation(&mut rng),
+            translation: offset - reach * dir,
+        };
+        let e1 = Pose {
+            rotation: random_rotation(&mut rng),
+            translation: offset
+                + reach * dir
+                + random_unit(&mut rng) * scale * rng.random_range(0.0..2.0),
+        };
+        let kind = case % 3;
+        let mo1 = random_motion(&mut rng, kind, s1, e1);
+        let s2 = Pose {
+            rotation: random_rotation(&mut rng),
+            translation: offset + random_unit(&mut rng) * 0.3 * scale,
+        };
+        let mo2 = if case % 2 == 0 {
+            Motion::stationary(s2)
+        } else {
+            let e2 = Pose {
+                rotation: random_rotation(&mut rng),
+                translation: s2.translation - dir * scale,
+            };
+            Motion::screw(s2, e2).unwrap()
+        };
+        hits += usize::from(check(
+            &m1,
+            &mo1,
+            &m2,
+            &mo2,
+            None,
+            &format!(
+                "case {case}: scale {scale:e} and {scale2:e}, {:e} from the origin, kind {kind}",
+                offset.length()
+            ),
+        ));
+    }
+    assert!(
+        hits > cases / 4 && hits < cases,
+        "the sample should mix contacts and misses: {hits}/{cases}"
+    );
 }

@@ -14,8 +14,10 @@
 //! returns `t = 0` with [`ContactStatus::StartedInContact`]. Reaching the iteration cap first is
 //! an error ([`ContactError::IterationLimit`]), never a contact.
 //!
-//! Normal: `(point2 - point1) / distance` where that direction is determined, that is where the
-//! distance is above [`NORMAL_RESOLUTION`] of the scene scale; below it (a tolerance near
+//! Normal: the unit direction from `point1` to `point2` where that direction is determined, that
+//! is where the distance is above [`NORMAL_RESOLUTION`] of the scene scale (computed in body 1's
+//! frame from the closest triangle pair, so that it stays unit and exact far from the origin,
+//! where the world points round); below it (a tolerance near
 //! rounding) the direction between the closest points at the iterate before, where the meshes
 //! were clearly apart; at a start in contact, the normal of `triangle1` turned towards
 //! `triangle2` (a convention: touching soups have no normal).
@@ -119,7 +121,8 @@ pub struct ContactTime {
     pub point1: Vec3,
     /// Closest point on mesh 2 at `time`, world frame.
     pub point2: Vec3,
-    /// Unit normal from body 1 to body 2, world frame: `(point2 - point1) / distance`, or where
+    /// Unit normal from body 1 to body 2, world frame: the direction of `point2 - point1` (to
+    /// rounding `(point2 - point1) / distance`; computed in body 1's frame), or where
     /// the distance is below rounding, the rule in the module docs.
     pub normal: Vec3,
     /// Distance between the meshes at `time` (model units, at most the tolerance).
@@ -548,15 +551,19 @@ pub(crate) fn finish(
     let (d, p1, p2) = closest(ends.time, cache);
     let resolution = ends.resolution;
     let normal = if d.distance > resolution {
-        (d.point2 - d.point1) / d.distance
+        pair_direction(mesh1, &p1, mesh2, &p2, cache.pair, &d)
     } else {
         // The direction at this time is rounding noise: take it where the meshes were apart.
+        let mut before_cache = ContactCache { pair: cache.pair };
         let before = ends
             .earlier
-            .map(|t| closest(t, &mut ContactCache { pair: cache.pair }).0)
-            .filter(|e| e.distance > resolution);
+            .map(|t| {
+                let (e, q1, q2) = closest(t, &mut before_cache);
+                (e, q1, q2, before_cache.pair)
+            })
+            .filter(|(e, ..)| e.distance > resolution);
         match before {
-            Some(e) => (e.point2 - e.point1) / e.distance,
+            Some((e, q1, q2, pair)) => pair_direction(mesh1, &q1, mesh2, &q2, pair, &e),
             None => touching_normal(mesh1, &p1, d.triangle1, mesh2, &p2, d.triangle2),
         }
     };
@@ -571,6 +578,33 @@ pub(crate) fn finish(
         iterations: ends.iterations,
         status: ends.status,
     }
+}
+
+/// The unit direction from `d.point1` to `d.point2` (world frame), taken from the closest
+/// leaf pair `leaves` in body 1's frame and turned into the world: the world points round at
+/// the scale of the bodies' distance from the origin, and far from it (a body at 1e13 whose
+/// points are 148 apart) their difference over the distance was off unit length by 3e-8 and
+/// off direction by as much (a fuzz test found it). Falls back to the world points' direction,
+/// normalized, where the pair is missing or touches in that frame.
+fn pair_direction(
+    mesh1: &TriMesh,
+    p1: &crate::Pose,
+    mesh2: &TriMesh,
+    p2: &crate::Pose,
+    leaves: Option<(u32, u32)>,
+    d: &crate::query::distance::DistanceResult,
+) -> Vec3 {
+    let local = leaves.and_then(|(l1, l2)| {
+        let pos12 = p1.inv_mul(p2);
+        let a = mesh1.bvh().leaf_triangles().get(l1 as usize)?;
+        let b = mesh2.bvh().leaf_triangles().get(l2 as usize)?;
+        let b = b.map(|v| pos12.transform_point(v));
+        let e = distance_triangle_triangle(a, &b);
+        (p1.rotation * (e.point2 - e.point1)).try_normalize()
+    });
+    local
+        .or_else(|| (d.point2 - d.point1).try_normalize())
+        .unwrap_or(Vec3::Z)
 }
 
 /// Normal of triangle 1 (world) turned towards triangle 2's centroid; for a degenerate
