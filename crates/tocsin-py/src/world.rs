@@ -12,6 +12,28 @@ use std::sync::{Arc, RwLock};
 use tocsin::world::{self as core, WorldError};
 use tocsin::{Pose, Vec3};
 
+/// A body index given from Python: an int (or anything with `__index__`) in `0..len`. Any other int (negative, or beyond
+/// what an index holds) is a WorldError like an index past the end, not the OverflowError of
+/// converting it; a non-int is a TypeError.
+fn body_index(py: Python<'_>, index: &Bound<'_, PyAny>, len: usize) -> PyResult<usize> {
+    // `__index__`: ints, bools and numpy's integers, as a list index takes them.
+    let Ok(int) = index.call_method0("__index__") else {
+        let given = index.get_type().name()?;
+        return Err(pyo3::exceptions::PyTypeError::new_err(format!(
+            "a body index must be an int, got {given}"
+        )));
+    };
+    match int.extract::<usize>() {
+        Ok(i) if i < len => Ok(i),
+        Ok(i) => Err(world_error(py, WorldError::UnknownBody { index: i, len })),
+        Err(_) => Err(error(
+            py,
+            "WorldError",
+            format!("body {index} does not exist: the world has {len} bodies"),
+        )),
+    }
+}
+
 fn world_error(py: Python<'_>, e: WorldError) -> PyErr {
     match e {
         WorldError::Options(o) => options_error(py, o),
@@ -104,7 +126,13 @@ impl World {
     }
 
     /// Sets body `index`'s Motion over the next step (WorldError for an unknown index).
-    fn set_motion(&self, py: Python<'_>, index: usize, motion: &Motion) -> PyResult<()> {
+    fn set_motion(
+        &self,
+        py: Python<'_>,
+        index: &Bound<'_, PyAny>,
+        motion: &Motion,
+    ) -> PyResult<()> {
+        let index = body_index(py, index, self.snapshot().len())?;
         self.edit(|w| w.set_motion(index, motion.inner))
             .map_err(|e| world_error(py, e))
     }
@@ -116,11 +144,16 @@ impl World {
     fn set_motions(
         &self,
         py: Python<'_>,
-        bodies: Vec<usize>,
+        bodies: Vec<Bound<'_, PyAny>>,
         starts: &Bound<'_, PyAny>,
         ends: &Bound<'_, PyAny>,
         kind: &str,
     ) -> PyResult<()> {
+        let len = self.snapshot().len();
+        let bodies = bodies
+            .iter()
+            .map(|i| body_index(py, i, len))
+            .collect::<PyResult<Vec<usize>>>()?;
         let k = bodies.len();
         let (a, b) = (
             poses_from(starts, "starts", Some(k))?,
@@ -144,10 +177,6 @@ impl World {
             .map(|(s, e)| make(*s, *e))
             .collect::<Result<Vec<_>, _>>()
             .map_err(|e| motion_error(py, e))?;
-        let len = self.snapshot().len();
-        if let Some(&index) = bodies.iter().find(|&&i| i >= len) {
-            return Err(world_error(py, WorldError::UnknownBody { index, len }));
-        }
         self.edit(|w| {
             for (&i, m) in bodies.iter().zip(motions) {
                 // Indices were checked above.
@@ -168,17 +197,9 @@ impl World {
     }
 
     /// Whether body `index` is static.
-    fn is_static(&self, py: Python<'_>, index: usize) -> PyResult<bool> {
+    fn is_static(&self, py: Python<'_>, index: &Bound<'_, PyAny>) -> PyResult<bool> {
         let w = self.snapshot();
-        if index >= w.len() {
-            return Err(world_error(
-                py,
-                WorldError::UnknownBody {
-                    index,
-                    len: w.len(),
-                },
-            ));
-        }
+        let index = body_index(py, index, w.len())?;
         Ok(w.is_static(index))
     }
 

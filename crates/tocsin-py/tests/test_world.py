@@ -143,6 +143,31 @@ def test_bad_input_raises_package_errors():
         world.set_motions([3], np.eye(4)[None], np.eye(4)[None])
     with pytest.raises(tocsin.PoseError):
         world.add_static(mesh, np.ones((4, 4)))
+    # Indices an index cannot hold are unknown bodies too, not the OverflowError of converting
+    # them; numpy's integers are indices; anything else is a TypeError.
+    still = tocsin.Motion.stationary(np.eye(4))
+    for index in (-1, 2**70):
+        with pytest.raises(tocsin.WorldError, match="does not exist"):
+            world.set_motion(index, still)
+        with pytest.raises(tocsin.WorldError, match="does not exist"):
+            world.is_static(index)
+        with pytest.raises(tocsin.WorldError, match="does not exist"):
+            world.set_motions([0, index], np.tile(np.eye(4), (2, 1, 1)), np.tile(np.eye(4), (2, 1, 1)))
+    assert world.is_static(np.int64(0)) is False
+    world.set_motion(np.uint8(0), still)
+    for index in ("0", 0.0, None):
+        with pytest.raises(TypeError, match="body index"):
+            world.is_static(index)
+    # The module's functions say which argument is wrong, as every other call does.
+    for call in (tocsin.first_contacts, tocsin.earliest_contact, tocsin.colliding_pairs):
+        with pytest.raises(TypeError, match="must be a tocsin.World"):
+            call(mesh)
+    with pytest.raises(TypeError, match="must be a tocsin.World"):
+        tocsin.pairs_within(mesh, None, 0.1)
+    with pytest.raises(TypeError, match="must be a tocsin.Robot"):
+        tocsin.path_is_free(world, [0.0], [1.0])
+    with pytest.raises(TypeError, match="must be a tocsin.Robot"):
+        tocsin.check_configurations(world, [[0.0]])
     assert len(world) == 1
 
 

@@ -77,40 +77,48 @@ def time_of_contact(*args, **kwargs):
 time_of_contact.__doc__ = (time_of_contact.__doc__ or "") + "\n" + (_rigid_time_of_contact.__doc__ or "")
 
 
+def _expect(value, cls, name):
+    """``value`` when it is a ``cls``; else the TypeError a wrong argument gets everywhere else
+    in the package (not the AttributeError of calling its method)."""
+    if not isinstance(value, cls):
+        raise TypeError(f"{name} must be a tocsin.{cls.__name__}, got {type(value).__name__}")
+    return value
+
+
 def path_is_free(robot, q0, q1, scene=None, tolerance=None, max_iterations=None):
     """Whether the robot's joint-space segment q0 -> q1 is free of contact with itself and the
     scene (exact; ``Robot.path_is_free``)."""
-    return robot.path_is_free(q0, q1, scene, tolerance=tolerance, max_iterations=max_iterations)
+    return _expect(robot, Robot, "robot").path_is_free(q0, q1, scene, tolerance=tolerance, max_iterations=max_iterations)
 
 
 def check_configurations(robot, qs, scene=None):
     """Exact collision of the robot at every row of ``qs`` (N, dof): a bool array
     (``Robot.check_configurations``)."""
-    return robot.check_configurations(qs, scene)
+    return _expect(robot, Robot, "robot").check_configurations(qs, scene)
 
 
 def first_contacts(world, tolerance=None, max_iterations=None):
     """Every pair of the world's bodies that comes within its tolerance during the step, each
     with the answer time_of_contact gives for the pair alone, sorted by time
     (``World.first_contacts``)."""
-    return world.first_contacts(tolerance=tolerance, max_iterations=max_iterations)
+    return _expect(world, World, "world").first_contacts(tolerance=tolerance, max_iterations=max_iterations)
 
 
 def earliest_contact(world, tolerance=None, max_iterations=None):
     """The earliest of ``first_contacts(world)``, or None (``World.earliest_contact``)."""
-    return world.earliest_contact(tolerance=tolerance, max_iterations=max_iterations)
+    return _expect(world, World, "world").earliest_contact(tolerance=tolerance, max_iterations=max_iterations)
 
 
 def colliding_pairs(world, poses=None):
     """Pairs of bodies that touch or intersect at ``poses`` ((N, 4, 4); default: the start of
     the step), shape (K, 2) (``World.colliding_pairs``)."""
-    return world.colliding_pairs(poses)
+    return _expect(world, World, "world").colliding_pairs(poses)
 
 
 def pairs_within(world, poses, distance):
     """Pairs of bodies at most ``distance`` apart at ``poses`` ((N, 4, 4), or None for the start
     of the step), shape (K, 2) (``World.pairs_within``)."""
-    return world.pairs_within(distance, poses)
+    return _expect(world, World, "world").pairs_within(distance, poses)
 
 
 __all__ = [
