@@ -214,8 +214,9 @@ impl OneSided<'_> {
         }
     }
 
-    /// A (sub)triangle's piece: one exact distance, at its centroid, and the smaller of the
-    /// two bounds; `tried` are the parent's two triangles of B.
+    /// A (sub)triangle's piece: the envelope of the parent's two triangles of B `tried` when
+    /// that settles it; else one exact distance, at its centroid, and the smaller of the two
+    /// bounds.
     fn triangle_piece(&mut self, t: [Vec3; 3], tried: [u32; 2]) -> Piece {
         // The parent's triangles alone may settle it, without the exact distance.
         let pre = envelope_bound(self.b, &t, &tried);
@@ -344,10 +345,9 @@ impl OneSided<'_> {
                     }
                 }
                 PieceKind::Triangle(t) => {
-                    // The four parts are sampled first, then bounded with each other's nearest
-                    // triangles of B among the candidates too (spread over the parent, they
-                    // tighten the envelope).
-                    // Parts that the parent's triangles settle are not sampled.
+                    // The parts that the parent's triangles do not settle are sampled first,
+                    // then bounded with each other's nearest triangles of B among the
+                    // candidates too (spread over the parent, they tighten the envelope).
                     let subs = split4(t);
                     let pre = subs.map(|sub| envelope_bound(self.b, &sub, &tried));
                     let mut sampled = [(0.0, tried[0]); 4];
