@@ -343,3 +343,70 @@ fn shallow_depths_end_close() {
     }
     assert_eq!(checked, 6);
 }
+
+#[test]
+fn far_from_the_origin_and_at_extreme_scales() {
+    // Soups, boxes and a knot against a sphere, of sizes 1e-6 to 1e6, up to 1e6 of their size
+    // from the origin: every answer separates the meshes and leaves them within the tolerance
+    // (to the rounding of the world coordinates there), with a unit direction.
+    use rand::Rng;
+    let mut rng = common::rng(26);
+    let knot = mesh::torus_knot(40, 6).unwrap();
+    let mut penetrating = 0;
+    for case in 0..45 {
+        let scale = 10f64.powi(rng.random_range(-6..=6));
+        let offset = 10f64.powi(rng.random_range(0..=6)) * scale * common::random_unit(&mut rng);
+        let (a, b) = match case % 3 {
+            0 => (
+                common::random_soup(&mut rng, 25, scale),
+                common::random_soup(&mut rng, 25, scale),
+            ),
+            1 => (
+                mesh::box_mesh(Vec3::new(0.5, 0.3, 0.8) * scale).unwrap(),
+                mesh::box_mesh(Vec3::new(0.4, 0.6, 0.2) * scale).unwrap(),
+            ),
+            _ => (
+                TriMesh::new(
+                    knot.vertices().iter().map(|&v| v * (scale / 6.0)).collect(),
+                    knot.triangles().to_vec(),
+                )
+                .unwrap(),
+                mesh::sphere(0.5 * scale, 8, 16).unwrap(),
+            ),
+        };
+        let near = |rng: &mut rand_chacha::ChaCha8Rng| Pose {
+            rotation: common::random_rotation(rng),
+            translation: offset + common::random_unit(rng) * 0.3 * scale,
+        };
+        let (pa, pb) = (near(&mut rng), near(&mut rng));
+        let r = penetration_depth(&a, &pa, &b, &pb, &DepthOptions::default()).unwrap();
+        let label = format!(
+            "case {case}: scale {scale:e}, {:e} from the origin",
+            offset.length()
+        );
+        if r.status == DepthStatus::Separated {
+            assert!(
+                !collide(&a, &pa, &b, &pb),
+                "{label}: separated but colliding"
+            );
+            continue;
+        }
+        penetrating += 1;
+        let after = moved(&pb, r.translation);
+        assert!(!collide(&a, &pa, &b, &after), "{label}: still intersecting");
+        let tol = 1e-3 * a.bounding_radius().min(b.bounding_radius());
+        let rounding = 16.0 * f64::EPSILON * (offset.length() + scale);
+        let d = distance(&a, &pa, &b, &after, &DistanceOptions::default())
+            .unwrap()
+            .distance;
+        assert!(
+            d <= tol * (1.0 + 1e-9) + rounding,
+            "{label}: {d} apart (tolerance {tol})"
+        );
+        assert!(
+            r.depth == 0.0 || (r.direction.length() - 1.0).abs() < 1e-12,
+            "{label}"
+        );
+    }
+    assert!(penetrating > 30, "{penetrating} of 45 penetrate");
+}
