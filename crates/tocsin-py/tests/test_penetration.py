@@ -7,26 +7,7 @@ import trimesh
 
 import tocsin
 
-
-def ray_parity_inside(vertices, faces, points):
-    """Inside by counting crossings of a ray along (1, 0.3, 0.17) (Moller-Trumbore), numpy."""
-    d = np.array([1.0, 0.3, 0.17])
-    d /= np.linalg.norm(d)
-    a, b, c = vertices[faces[:, 0]], vertices[faces[:, 1]], vertices[faces[:, 2]]
-    e1, e2 = b - a, c - a
-    h = np.cross(d, e2)
-    det = np.einsum("ij,ij->i", e1, h)
-    inside = np.zeros(len(points), bool)
-    ok = np.abs(det) > 1e-14
-    for k, p in enumerate(points):
-        s = p - a
-        u = np.einsum("ij,ij->i", s, h) / np.where(ok, det, 1.0)
-        q = np.cross(s, e1)
-        v = (q @ d) / np.where(ok, det, 1.0)
-        t = np.einsum("ij,ij->i", e2, q) / np.where(ok, det, 1.0)
-        hit = ok & (u >= 0) & (v >= 0) & (u + v <= 1) & (t > 0)
-        inside[k] = hit.sum() % 2 == 1
-    return inside
+from _geometry import ray_parity_inside
 
 
 def test_contains_matches_ray_parity_on_a_watertight_torus():

@@ -61,12 +61,15 @@ def test_forward_kinematics_matches_pybullet(urdf):
         pybullet.disconnect(client)
 
 
-def box_scene(rng, count):
-    """A scene of random boxes, and its obstacles by name (mesh, pose)."""
+def box_scene(rng, count, base=None):
+    """A scene of random boxes around the robot's base (the identity when None), and its
+    obstacles by name (mesh, pose)."""
+    base = np.eye(4) if base is None else base
     scene, obstacles = tocsin.Scene(), {}
     for k in range(count):
         pose = np.eye(4)
         pose[:3, 3] = rng.uniform([-0.7, -0.7, 0.0], [0.7, 0.7, 1.0])
+        pose = base @ pose
         mesh = tocsin.Mesh.box(rng.uniform(0.03, 0.2, size=3))
         scene.add(f"box{k}", mesh, pose)
         obstacles[f"box{k}"] = (mesh, pose)
@@ -95,9 +98,25 @@ def first_sampled_collision(robot, q0, q1, scene, samples=2000):
     return hi
 
 
-@pytest.mark.parametrize("urdf,srdf", [(PANDA, True), (KUKA, False)])
-def test_segments_against_dense_sampling(urdf, srdf):
+def far_base(offset):
+    """A base turned about a tilted axis and moved `offset` from the origin along (1, -2, 0.5)."""
+    axis = np.array([0.3, -0.5, 1.0]) / np.linalg.norm([0.3, -0.5, 1.0])
+    k = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
+    base = np.eye(4)
+    base[:3, :3] = np.eye(3) + np.sin(2.1) * k + (1 - np.cos(2.1)) * k @ k
+    base[:3, 3] = offset * np.array([1.0, -2.0, 0.5]) / np.linalg.norm([1.0, -2.0, 0.5])
+    return base
+
+
+@pytest.mark.parametrize(
+    "urdf,srdf,offset", [(PANDA, True, 0.0), (KUKA, False, 0.0), (PANDA, True, 1e4), (KUKA, False, 1e5)]
+)
+def test_segments_against_dense_sampling(urdf, srdf, offset):
+    """Segments against dense sampling plus bisection, at the origin and on a turned base far
+    from it (the scene moved with it: the same geometry in large coordinates)."""
     robot = tocsin.Robot.from_urdf(urdf)
+    base = far_base(offset)
+    robot.base = base
     if srdf:  # the Panda's hand and fingers touch by design
         robot.allow_collision("panda_hand", "panda_leftfinger")
         robot.allow_collision("panda_hand", "panda_rightfinger")
@@ -108,7 +127,7 @@ def test_segments_against_dense_sampling(urdf, srdf):
     counts = {"free": 0, "contact": 0, "self": 0}
     checked = 0
     while checked < 25:
-        scene, obstacles = box_scene(rng, 6)
+        scene, obstacles = box_scene(rng, 6, base)
         q0 = rng.uniform(lo, hi)
         if robot.in_collision(q0, scene):
             continue
@@ -135,7 +154,7 @@ def test_segments_against_dense_sampling(urdf, srdf):
         else:
             m2, p2 = obstacles[got.object2]
         d = tocsin.distance(m1, poses[got.object1], m2, p2).distance
-        assert abs(d - got.distance) < 1e-9
+        assert abs(d - got.distance) < 1e-9 * (1 + offset)
         tolerance = 1e-3 * min(robot.object_mesh(n).bounding_radius for n in robot.object_names)
         assert got.distance <= tolerance * (1 + 1e-9)
     print(counts)
