@@ -11,7 +11,7 @@ use tocsin::TriMesh;
 /// A triangle mesh (polygon soup) with its bounding volume hierarchy; immutable.
 ///
 /// Mesh(vertices, triangles): vertices is an (N, 3) array of float coordinates (body frame,
-/// model units, each of magnitude at most 1e150), triangles an (M, 3) array of integer vertex
+/// model units, each of magnitude at most 1e30), triangles an (M, 3) array of integer vertex
 /// indices. No closedness, orientation or connectivity is assumed: duplicated and degenerate
 /// triangles and isolated vertices are accepted. The arrays are copied, never modified.
 /// Raises MeshError on bad shapes, dtypes, indices or coordinates, OutOfMemoryError when the

@@ -16,13 +16,18 @@ pub type Mat4 = glam::DMat4;
 /// must be below it, entry-wise.
 pub const ROTATION_TOLERANCE: f64 = 1e-6;
 
-/// Largest coordinate magnitude accepted anywhere (mesh vertices, translations, centres): the
-/// squares of differences of such numbers stay finite (1e300 < 1.8e308).
-pub const MAX_COORDINATE: f64 = 1e150;
+/// Largest coordinate magnitude accepted anywhere (mesh vertices, translations, centres). The
+/// kernels form products of up to eight lengths (a triangle pair's normals' squared lengths
+/// multiplied, the square of their cross product), which stay finite and normal for lengths
+/// from about 1e-38 to 1e38; 1e30 leaves a margin. The range was 1e-150 to 1e150, where only
+/// squared distances were sure: at 1e70 a screw motion's collisions were missed, at 1e80 two
+/// triangles 1e80 apart were reported touching and at 1e120 a point over a face was taken to be
+/// nearest an edge (the twenty-seventh session's sweep, docs/BENCHMARKS.md).
+pub const MAX_COORDINATE: f64 = 1e30;
 
-/// Smallest scale of a mesh (its largest coordinate magnitude, unless all are zero): squared
-/// distances at that scale stay normal numbers (1e-300 > 2.2e-308).
-pub const MIN_SCALE: f64 = 1e-150;
+/// Smallest scale of a mesh (its largest coordinate magnitude, unless all are zero): see
+/// [`MAX_COORDINATE`].
+pub const MIN_SCALE: f64 = 1e-30;
 
 /// Checks a translation: finite and within [`MAX_COORDINATE`].
 pub fn check_translation(t: Vec3) -> Result<(), PoseError> {

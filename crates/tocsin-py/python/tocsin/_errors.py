@@ -7,7 +7,7 @@ class TocsinError(Exception):
 
 class MeshError(TocsinError, ValueError):
     """A mesh is invalid: no triangles, an index out of range, a NaN or infinite coordinate, a
-    coordinate beyond 1e150 (or a whole mesh below 1e-150), a wrong array shape or dtype, a bad
+    coordinate beyond 1e30 (or a whole mesh below 1e-30), a wrong array shape or dtype, a bad
     generator size, or a file whose content is not a valid mesh."""
 
 
