@@ -140,6 +140,15 @@ fn bad_models_are_refused_with_clear_errors() {
             "not found",
         ),
         (link("a", "<cylinder radius='-1' length='1'/>"), "positive"),
+        (
+            format!(
+                "{}{}{}",
+                link("a", bx),
+                link("b", bx),
+                joint("j", "revolute", "a", "b", "2e30 0 0", "1 0 0")
+            ),
+            "supported range",
+        ),
         ("<robot name='r'><link name='a'>".to_string(), ""),
     ];
     for (body, needle) in cases {
