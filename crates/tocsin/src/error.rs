@@ -34,7 +34,7 @@ pub enum MeshError {
     },
     /// A vertex coordinate lies outside the supported range (magnitude above
     /// [`crate::math::MAX_COORDINATE`]: the kernels' products of lengths would overflow).
-    #[error("vertex {vertex}, coordinate {axis}: {value:e} is outside the supported range (magnitude at most 1e30)")]
+    #[error("vertex {vertex}, coordinate {axis}: {value:e} is outside the supported range (magnitude at most {max:e})", max = crate::math::MAX_COORDINATE)]
     CoordinateOutOfRange {
         /// Index of the offending vertex.
         vertex: usize,
@@ -45,7 +45,7 @@ pub enum MeshError {
     },
     /// Every coordinate of the mesh is tiny but not all are zero (largest magnitude below
     /// [`crate::math::MIN_SCALE`]): squared distances would underflow. Rescale the model.
-    #[error("the mesh's largest coordinate magnitude is {magnitude:e}, below the supported 1e-30 (rescale the model)")]
+    #[error("the mesh's largest coordinate magnitude is {magnitude:e}, below the supported {min:e} (rescale the model)", min = crate::math::MIN_SCALE)]
     TooSmall {
         /// The largest coordinate magnitude found.
         magnitude: f64,
@@ -119,8 +119,9 @@ pub enum PoseError {
     /// An entry is NaN or infinite.
     #[error("the pose has a NaN or infinite entry")]
     NonFinite,
-    /// A translation is outside the supported range (magnitude above 1e30).
-    #[error("the translation {value:e} is outside the supported range (magnitude at most 1e30)")]
+    /// A translation is outside the supported range (magnitude above
+    /// [`crate::math::MAX_COORDINATE`]).
+    #[error("the translation {value:e} is outside the supported range (magnitude at most {max:e})", max = crate::math::MAX_COORDINATE)]
     OutOfRange {
         /// The offending entry.
         value: f64,

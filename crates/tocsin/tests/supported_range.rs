@@ -17,11 +17,6 @@ fn scaled(m: &TriMesh, s: f64) -> TriMesh {
     TriMesh::new(v, m.triangles().to_vec()).unwrap()
 }
 
-/// `p` with its translation multiplied by `s`.
-fn moved(p: &Pose, s: f64) -> Pose {
-    Pose::new(p.rotation, p.translation * s).unwrap()
-}
-
 /// A big triangle in z = 0 and a small one whose nearest corner is 1 above its face.
 fn face_pair() -> (TriMesh, TriMesh) {
     let big = TriMesh::new(
@@ -77,7 +72,7 @@ fn answers(s: f64) -> Vec<f64> {
         out.push(c.unwrap().map_or(-1.0, |c| c.time));
     }
     let ball = scaled(&mesh::sphere(1.0, 12, 24).unwrap(), s);
-    let pushed = moved(&Pose::from_translation(Vec3::new(0.7, 0.2, -0.1)), s);
+    let pushed = Pose::from_translation(Vec3::new(0.7, 0.2, -0.1) * s);
     let pw = pointwise_penetration(&ball, &id, &ball, &pushed, 1e-4 * s).unwrap();
     out.push(pw.depth / s);
     let h = hausdorff_distance(&ball, &id, &knot, &pushed, 1e-4 * s, true).unwrap();

@@ -95,21 +95,14 @@ fn pose_of(p: &urdf_rs::Pose) -> Result<Pose, RobotError> {
     // Each origin within the supported range, as every pose is: a chain of them stays far
     // inside the range where the kernels' products of lengths are finite (to about 1e38 per
     // length; math::MAX_COORDINATE).
-    if [x, y, z]
-        .iter()
-        .any(|v| v.abs() > crate::math::MAX_COORDINATE)
-    {
-        return Err(RobotError::Model(format!(
-            "an origin's translation {:?} is outside the supported range (magnitude at most \
-             1e30)",
-            p.xyz.0
-        )));
-    }
+    let translation = Vec3::new(x, y, z);
+    crate::math::check_translation(translation)
+        .map_err(|e| RobotError::Model(format!("an origin {:?}: {e}", p.xyz.0)))?;
     // URDF: fixed-axis roll, pitch, yaw: R = Rz(yaw) Ry(pitch) Rx(roll).
     let rotation = Mat3::from_rotation_z(ya) * Mat3::from_rotation_y(pi) * Mat3::from_rotation_x(r);
     Ok(Pose {
         rotation,
-        translation: Vec3::new(x, y, z),
+        translation,
     })
 }
 
