@@ -7,6 +7,8 @@ import pytest
 
 import tocsin
 
+from _geometry import point_triangle_distances
+
 
 def rotation(axis, angle):
     a = np.asarray(axis, float) / np.linalg.norm(axis)
@@ -22,21 +24,8 @@ def pose(axis=(0, 0, 1), angle=0.0, t=(0, 0, 0)):
 
 
 def point_triangle(p, a, b, c):
-    """Distance from p to triangle abc by dense barycentric sampling plus its edges (slow, obvious)."""
-    best = np.inf
-    for s, e in ((a, b), (b, c), (c, a)):
-        d = e - s
-        ll = d @ d
-        u = 0.0 if ll == 0 else np.clip((p - s) @ d / ll, 0, 1)
-        best = min(best, np.linalg.norm(p - (s + u * d)))
-    n = np.cross(b - a, c - a)
-    if n @ n > 1e-20:
-        q = p - n * ((p - a) @ n) / (n @ n)
-        m = np.column_stack([b - a, c - a])
-        uv, *_ = np.linalg.lstsq(m, q - a, rcond=None)
-        if uv.min() >= 0 and uv.sum() <= 1:
-            best = min(best, np.linalg.norm(p - q))
-    return best
+    """Distance from p to triangle abc (the brute-force kernel of ``_geometry``)."""
+    return float(point_triangle_distances(np.asarray(p, float)[None], a[None], b[None], c[None])[0, 0])
 
 
 def test_distance_matches_vertex_brute_force_on_boxes():
