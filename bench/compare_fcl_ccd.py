@@ -220,6 +220,19 @@ def main():
                     f"| {name} | {kind} | {label} | {timing} | {contacts}/{len(qs)} | {misses} | {late} | {fps} |"
                 )
                 print(lines[-1], flush=True)
+            # The yes/no answers apart on the colliding motions (which motion_is_free's probes
+            # and the sampler's first colliding sample settle early) and the free ones.
+            for label in ("tocsin motion_is_free", "fcl naive 100"):
+                parts = [[t for t, first in zip(times[label], firsts) if (first is None) == free] for free in (False, True)]
+                med_p90 = [
+                    (f"{statistics.median(ts) * 1e6:.0f}", f"{np.percentile(ts, 90) * 1e6:.0f}") if ts else ("-", "-")
+                    for ts in parts
+                ]
+                lines.append(
+                    f"| {name} | {kind} | {label}: colliding / free motions | {med_p90[0][0]} / {med_p90[1][0]} | "
+                    f"{med_p90[0][1]} / {med_p90[1][1]} | {len(parts[0])} / {len(parts[1])} | - | - | - |"
+                )
+                print(lines[-1], flush=True)
     lines += [
         "",
         "| model | motion | time of contact / own distance at the start (median) | / fcl naive 100 (median) | p90 / median |",

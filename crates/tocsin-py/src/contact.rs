@@ -135,9 +135,12 @@ pub(crate) fn time_of_contact(
 /// Whether mesh1 moving by motion1 and mesh2 moving by motion2 stay free of contact over t in
 /// [0, 1]: True when they stay farther apart than the tolerance, False whenever they come
 /// within tolerance / 2 (always when they collide), either in between; the same answer as
-/// `time_of_contact(...) is None`, but it stops at the first step within the tolerance and
-/// computes no witnesses (the question a path planner asks). Raises IterationLimitError when
-/// max_iterations runs out first. The GIL is released.
+/// `time_of_contact(...) is None`, but it stops at the first step within the tolerance,
+/// computes no witnesses, and settles colliding motions by exact collision tests at a few times
+/// (the end, the middle, then evenly spaced times of the rest when the advancement is slow)
+/// before the advancement converges to the contact: the question a path planner asks. Raises
+/// IterationLimitError when max_iterations runs out before the answer is known. The GIL is
+/// released.
 #[pyfunction]
 #[pyo3(signature = (mesh1, motion1, mesh2, motion2, tolerance=None, max_iterations=None))]
 pub(crate) fn motion_is_free(

@@ -83,7 +83,17 @@ def test_motion_is_free_agrees_with_time_of_contact():
         assert free == (tocsin.time_of_contact(knot, fly, knot, still) is None)
         answers.add(free)
     assert answers == {True, False}
+    start, end = np.eye(4), np.eye(4)
+    start[0, 3], end[0, 3] = -12.0, 12.0
+    through = tocsin.Motion.translation(start, end)
+    # A motion through the knot collides half way: the collision test there (a probe) answers
+    # before the advancement's first iteration, while the time of contact needs its iterations.
+    assert tocsin.motion_is_free(knot, through, knot, still, max_iterations=1) is False
     with pytest.raises(tocsin.IterationLimitError):
-        start, end = np.eye(4), np.eye(4)
-        start[0, 3], end[0, 3] = -12.0, 12.0
-        tocsin.motion_is_free(knot, tocsin.Motion.translation(start, end), knot, still, max_iterations=1)
+        tocsin.time_of_contact(knot, through, knot, still, max_iterations=1)
+    # A motion that passes by is only known free once the advancement has certified it.
+    start[1, 3] = end[1, 3] = 7.0
+    by = tocsin.Motion.translation(start, end)
+    assert tocsin.time_of_contact(knot, by, knot, still) is None
+    with pytest.raises(tocsin.IterationLimitError):
+        tocsin.motion_is_free(knot, by, knot, still, max_iterations=1)

@@ -6,7 +6,8 @@
 //!
 //! `cargo run --release --example profile_contact_set [model] [repeats]`, model one of
 //! knot2.8k, knot34k (default), sphere, or a mesh file (.obj, .stl: the bunny or a Panda link
-//! of pybullet_data); `ONLY=toc|free` runs only that call (for callgrind).
+//! of pybullet_data); `ONLY=toc|free` runs only that call and `SET=pass|near` only the passes
+//! or the near misses (for callgrind).
 #[path = "../benches/common/mod.rs"]
 mod common;
 
@@ -32,6 +33,7 @@ fn main() {
     let model = args.get(1).map_or("knot34k", String::as_str);
     let repeats: usize = args.get(2).and_then(|a| a.parse().ok()).unwrap_or(3);
     let only = std::env::var("ONLY").unwrap_or_default();
+    let set = std::env::var("SET").unwrap_or_default();
     let m = match model {
         "knot2.8k" => mesh::torus_knot(175, 8),
         "sphere" => mesh::sphere(1.0, 64, 128),
@@ -50,8 +52,14 @@ fn main() {
         vec![Vec::new(); 3],
         vec![Vec::new(); 3],
     );
+    // `motion_is_free` on the passes (which collide) and the near misses (free) apart.
+    let (mut free_pass, mut free_near) = (vec![Vec::new(); 3], vec![Vec::new(); 3]);
     for _ in 0..repeats {
-        for (kind, mo) in &qs {
+        for (q, (kind, mo)) in qs.iter().enumerate() {
+            let pass = q % 50 < 30;
+            if (set == "pass" && !pass) || (set == "near" && pass) {
+                continue;
+            }
             if only.is_empty() || only == "toc" {
                 let s = Instant::now();
                 let c = time_of_contact(&m, mo, &m, &still, &opts).ok().flatten();
@@ -77,16 +85,26 @@ fn main() {
             if only.is_empty() || only == "free" {
                 let s = Instant::now();
                 let _ = motion_is_free(&m, mo, &m, &still, &opts);
-                free[*kind].push(s.elapsed().as_secs_f64() * 1e6);
+                let us = s.elapsed().as_secs_f64() * 1e6;
+                free[*kind].push(us);
+                if pass {
+                    free_pass[*kind].push(us);
+                } else {
+                    free_near[*kind].push(us);
+                }
             }
         }
     }
-    println!("| {model} | toc median | free median | witness distance median | iterations |");
+    println!(
+        "| {model} | toc median | free median | free: passes / near misses | witness distance median | iterations |"
+    );
     for (k, name) in ["translation", "interp", "screw"].iter().enumerate() {
         println!(
-            "| {name} | {:.0} | {:.0} | {:.0} | {:.0} |",
+            "| {name} | {:.0} | {:.0} | {:.0} / {:.0} | {:.0} | {:.0} |",
             common::median(toc[k].clone()),
             common::median(free[k].clone()),
+            common::median(free_pass[k].clone()),
+            common::median(free_near[k].clone()),
             common::median(witness[k].clone()),
             common::median(iters[k].clone())
         );

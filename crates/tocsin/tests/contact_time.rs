@@ -480,6 +480,73 @@ fn iteration_limit_returns_a_collision_free_time() {
     ));
 }
 
+/// `motion_is_free` settles colliding motions with exact collision tests at a few times
+/// (probes) beside the advancement. Under an iteration cap it must still run the very same
+/// iterations as `time_of_contact`: unless a probe found a collision (and then the uncapped
+/// time of contact is a contact), it gives the capped query's answer, or the same error with
+/// the same time reached. A probe's "not free" must never be wrong, which `check` (the oracle)
+/// covers on every other test's cases.
+#[test]
+fn motion_is_free_under_an_iteration_cap() {
+    let knot = mesh::torus_knot(60, 6).unwrap();
+    let still = Motion::stationary(Pose::IDENTITY);
+    let mut rng = rng(57);
+    let (mut settled_by_probes, mut capped_errors) = (0, 0);
+    for case in 0..30 {
+        let kind = case % 3;
+        let dir = random_unit(&mut rng);
+        let s1 = Pose {
+            rotation: random_rotation(&mut rng),
+            translation: -12.0 * dir,
+        };
+        let e1 = Pose {
+            rotation: random_rotation(&mut rng),
+            // Far past the still knot, or across it: collisions away from the middle and the
+            // end (found by the advancement or the later probes), near misses and misses.
+            translation: rng.random_range(12.0..40.0) * dir
+                + random_unit(&mut rng) * rng.random_range(0.0..8.0),
+        };
+        let mo = random_motion(&mut rng, kind, s1, e1);
+        let full = time_of_contact(&knot, &mo, &knot, &still, &ContactOptions::default()).unwrap();
+        for cap in 1..=8 {
+            let opts = ContactOptions {
+                max_iterations: cap,
+                ..Default::default()
+            };
+            let label = format!("case {case} kind {kind} cap {cap}");
+            let free = tocsin::motion_is_free(&knot, &mo, &knot, &still, &opts);
+            match (free, time_of_contact(&knot, &mo, &knot, &still, &opts)) {
+                (Ok(free), Ok(r)) => assert_eq!(free, r.is_none(), "{label}"),
+                (Ok(false), Err(_)) => {
+                    assert!(full.is_some(), "{label}: a probe called a free motion colliding");
+                    settled_by_probes += 1;
+                }
+                (
+                    Err(tocsin::ContactError::IterationLimit {
+                        iterations: a,
+                        time_reached: ta,
+                    }),
+                    Err(tocsin::ContactError::IterationLimit {
+                        iterations: b,
+                        time_reached: tb,
+                    }),
+                ) => {
+                    assert_eq!((a, ta), (b, tb), "{label}");
+                    assert_eq!(a, cap, "{label}");
+                    capped_errors += 1;
+                }
+                (free, toc) => panic!("{label}: motion_is_free {free:?}, time_of_contact {toc:?}"),
+            }
+        }
+    }
+    // Both branches ran: passes through the middle are settled before any iteration, and the
+    // others reach the cap.
+    assert!(
+        settled_by_probes > 0 && capped_errors > 0,
+        "{settled_by_probes} settled by probes, {capped_errors} capped"
+    );
+}
+
 #[test]
 fn cache_across_queries_gives_the_same_answers() {
     use tocsin::{time_of_contact_with_cache, ContactCache};

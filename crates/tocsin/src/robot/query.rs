@@ -40,29 +40,11 @@ use crate::bvh::{rss_separation, RelativeRss, Rss};
 use crate::math::{Pose, Vec3};
 use crate::motion::Motion;
 use crate::query::collide::collide;
+use crate::query::contact_time::probe::{advance_probed, probe_span, Probed, PROBE_AFTER};
 use crate::query::contact_time::{
     advance_paths, finish, ContactCache, ContactStatus, Path, Span, NORMAL_RESOLUTION,
 };
 use crate::TriMesh;
-
-/// Iterations after which [`path_is_free`] probes a pair for a collision at the times
-/// `k / PROBES` (`k = 1 .. PROBES - 1`) of the rest of its span (a collision found there is a
-/// real one, and settles a colliding edge without converging to the contact). The span's end,
-/// the last of the evenly spaced times, was probed before any advancement and is not repeated:
-/// on UR5, where the probes of two always-close link pairs (base and upper arm, forearm and
-/// wrist) cost 12 us a collision test, repeating it was 6% of a free edge.
-const PROBE_AFTER: usize = 3;
-/// Probe spacing; see [`PROBE_AFTER`]. With the end and middle probes made before any
-/// advancement (see `Segment::run`), these catch collisions the advancement approaches slowly.
-const PROBES: usize = 4;
-/// A pair whose first [`PROBE_AFTER`] iterations went at a pace that would finish its span in
-/// at most this many more is not probed: finishing costs less than the probes. Measured in
-/// instructions (100 random edges per scenario from the start state, and the Panda bench's
-/// 1,470 edges): 0 / 3 / 6 / 8 / 12 gave box_ur5 89.2 / 82.0 / 74.8 / 71.4 / 68.9M,
-/// table_under_pick_ur5 103.0 / 100.9 / 95.6 / 92.8 / 90.7M, Panda free edges 514.8 / 507.9 /
-/// 505.0 / 503.5 / 502.2M, Panda colliding edges 32.7M up to 8 and 62.9M at 12, start-goal
-/// edges 91.8 / 94.1 / 94.0 / 94.5 / 102.3M; 6 stays clear of the colliding edges' cliff.
-const PROBE_PACE: f64 = 6.0;
 
 /// The first iteration of a pair's advancement takes its bounds over this fraction of the
 /// span: pairs whose step exceeds the window are not visited, and over a shorter window the
@@ -623,12 +605,8 @@ impl<'r> Segment<'r> {
             for &(start, end, pair) in &candidates {
                 let (relative, _) = self.pair_paths(pair);
                 let (m1, p1, m2, p2) = self.meshes(pair, relative.as_ref());
-                if collide(m1, &p1.pose_at(end), m2, &p2.pose_at(end)) {
-                    return Ok(Some(self.contact_at(pair, end)));
-                }
-                let half = 0.5 * (start + end);
-                if collide(m1, &p1.pose_at(half), m2, &p2.pose_at(half)) {
-                    return Ok(Some(self.contact_at(pair, half)));
+                if let Some(at) = probe_span(m1, p1, m2, p2, start, end) {
+                    return Ok(Some(self.contact_at(pair, at, 0)));
                 }
             }
         }
@@ -663,35 +641,13 @@ impl<'r> Segment<'r> {
                 .and_then(|w| w.pairs.get(&key).copied())
                 .unwrap_or_default();
             let found = if first_only {
-                // A yes/no answer: a pair still undecided after a few iterations and far from
-                // done (`PROBE_PACE`) is probed for a collision at evenly spaced times of the
-                // rest of its span, which settles a colliding edge without converging to the
-                // contact (the span's end, unclipped here since nothing was found yet, was
-                // probed above).
-                let short = Span {
-                    max_iterations: PROBE_AFTER,
-                    ..span
-                };
-                match advance_paths(m1, p1, m2, p2, &short, &mut cache) {
-                    Err(crate::ContactError::IterationLimit { time_reached, .. }) => {
-                        let rest = span.end - time_reached;
-                        let pace = (time_reached - span.start) / PROBE_AFTER as f64;
-                        let probes = if rest <= PROBE_PACE * pace { 1 } else { PROBES };
-                        for k in 1..probes {
-                            let at = time_reached + rest * k as f64 / PROBES as f64;
-                            if collide(m1, &p1.pose_at(at), m2, &p2.pose_at(at)) {
-                                return Ok(Some(self.contact_at(pair, at)));
-                            }
-                        }
-                        // The advancement certified the meshes apart at `time_reached`.
-                        let rest = Span {
-                            start: time_reached,
-                            start_free: true,
-                            ..span
-                        };
-                        advance_paths(m1, p1, m2, p2, &rest, &mut cache)?
+                // A yes/no answer: the advancement probes a pair that is slow to settle
+                // (`probe::advance_probed`; the span's end and middle were probed above).
+                match advance_probed(m1, p1, m2, p2, &span, &mut cache)? {
+                    Probed::Collides(at) => {
+                        return Ok(Some(self.contact_at(pair, at, PROBE_AFTER)))
                     }
-                    other => other?,
+                    Probed::Advanced(found) => found,
                 }
             } else {
                 advance_paths(m1, p1, m2, p2, &span, &mut cache)?
@@ -700,11 +656,12 @@ impl<'r> Segment<'r> {
                 w.pairs.insert(key, cache);
             }
             if let Some(ends) = found {
+                if first_only {
+                    // A yes/no answer needs no witnesses: skip `finish`'s exact distance.
+                    return Ok(Some(self.contact_at(pair, ends.time, ends.iterations)));
+                }
                 if best.as_ref().is_none_or(|b| ends.time < b.0) {
                     best = Some((ends.time, pair, ends, cache));
-                }
-                if first_only {
-                    break;
                 }
             }
         }
@@ -746,9 +703,10 @@ impl<'r> Segment<'r> {
         }))
     }
 
-    /// The report of a collision found by a probe at `time` (only its time and names matter:
+    /// The report of a contact found by a yes/no answer at `time`, by a probe or after
+    /// `iterations` of the advancement, without its witnesses (only that it exists matters:
     /// [`path_is_free`] returns `false`).
-    fn contact_at(&self, pair: Pair, time: f64) -> RobotContact {
+    fn contact_at(&self, pair: Pair, time: f64, iterations: usize) -> RobotContact {
         RobotContact {
             time,
             object1: self.robot.objects[pair.a].name.clone(),
@@ -758,7 +716,7 @@ impl<'r> Segment<'r> {
             point2: Vec3::ZERO,
             normal: Vec3::Z,
             distance: 0.0,
-            iterations: PROBE_AFTER,
+            iterations,
             status: ContactStatus::Converged,
         }
     }

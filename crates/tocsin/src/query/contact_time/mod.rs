@@ -40,6 +40,7 @@
 //! knot34k medians 251-353 -> 257-285 us in one run and 274-305 in another.
 
 pub(crate) mod cast;
+pub(crate) mod probe;
 mod shells;
 mod traverse;
 
@@ -218,10 +219,13 @@ pub fn time_of_contact_with_cache(
 
 /// Whether the motions are free of contact: `true` when the meshes stay farther apart than
 /// the tolerance over all of `[0, 1]`, `false` whenever they come closer than half of it (in
-/// particular whenever they collide), either in between; exactly `time_of_contact(..).is_none()`.
-/// The question a path planner asks: it stops at the first iteration within the tolerance and
-/// computes no witnesses, which saves the final exact distance (about 40% of a knot34k time of
-/// contact).
+/// particular whenever they collide), either in between; the same answer as
+/// `time_of_contact(..).is_none()`. The question a path planner asks: it computes no
+/// witnesses, which saves the final exact distance (about 40% of a knot34k time of contact),
+/// stops at the first iteration within the tolerance, and settles colliding motions with exact
+/// collision tests at a few times before the advancement converges to the contact
+/// ([`probe`]'s schedule: the end, the middle, then evenly spaced times of the rest when the
+/// advancement is slow). A collision found so is a real one, so the answer is the same.
 ///
 /// # Errors
 /// As [`time_of_contact`]: bad options, or the iteration cap reached before the answer is known.
@@ -232,8 +236,30 @@ pub fn motion_is_free(
     motion2: &Motion,
     options: &ContactOptions,
 ) -> Result<bool, ContactError> {
+    let (delta, scale, max_iterations) = checked(mesh1, motion1, mesh2, motion2, options)?;
+    let (path1, path2) = (Path::Rigid(motion1), Path::Rigid(motion2));
+    if probe::probe_span(mesh1, path1, mesh2, path2, 0.0, 1.0).is_some() {
+        return Ok(false);
+    }
+    let span = Span {
+        start: 0.0,
+        end: 1.0,
+        delta,
+        resolution: NORMAL_RESOLUTION * scale,
+        max_iterations,
+        first_window: 1.0,
+        slack: (FAR_SLACK, NEAR_SLACK),
+        // A yes/no answer needs no collision test at the start: touching meshes end the
+        // first step search just the same.
+        start_free: true,
+    };
     let mut cache = ContactCache::default();
-    Ok(advance(mesh1, motion1, mesh2, motion2, options, &mut cache, false)?.is_none())
+    Ok(
+        match probe::advance_probed(mesh1, path1, mesh2, path2, &span, &mut cache)? {
+            probe::Probed::Collides(_) => false,
+            probe::Probed::Advanced(ends) => ends.is_none(),
+        },
+    )
 }
 
 /// The advancement of two rigid motions over `[0, 1]` (module docs); [`finish`] gives the
@@ -401,16 +427,43 @@ pub(crate) fn advance_paths(
     span: &Span,
     cache: &mut ContactCache,
 ) -> Result<Option<Ends>, ContactError> {
+    Ok(
+        match advance_core(mesh1, path1, mesh2, path2, span, cache, false)? {
+            probe::Probed::Advanced(ends) => ends,
+            // Not reached without probes; were it, a collision at `time` is a contact.
+            probe::Probed::Collides(time) => Some(Ends {
+                time,
+                earlier: None,
+                resolution: span.resolution,
+                iterations: 0,
+                status: ContactStatus::Converged,
+            }),
+        },
+    )
+}
+
+/// [`advance_paths`], and with `probing` the yes/no answer's probes after
+/// [`probe::PROBE_AFTER`] iterations ([`probe::advance_probed`]).
+fn advance_core(
+    mesh1: &TriMesh,
+    path1: Path<'_>,
+    mesh2: &TriMesh,
+    path2: Path<'_>,
+    span: &Span,
+    cache: &mut ContactCache,
+    probing: bool,
+) -> Result<probe::Probed, ContactError> {
+    use probe::Probed;
     let (delta, resolution) = (span.delta, span.resolution);
     let (start1, start2) = (path1.pose_at(span.start), path2.pose_at(span.start));
     if !span.start_free && collide(mesh1, &start1, mesh2, &start2) {
-        return Ok(Some(Ends {
+        return Ok(Probed::Advanced(Some(Ends {
             time: span.start,
             earlier: None,
             resolution,
             iterations: 0,
             status: ContactStatus::StartedInContact,
-        }));
+        })));
     }
     let small_radius = mesh1.bounding_radius().min(mesh2.bounding_radius());
     let far = (50.0 * delta).max(small_radius / 50.0);
@@ -431,19 +484,19 @@ pub(crate) fn advance_paths(
         match out {
             StepOutcome::Within { pair } => {
                 cache.pair = Some(pair);
-                return Ok(Some(Ends {
+                return Ok(Probed::Advanced(Some(Ends {
                     time: t,
                     earlier,
                     resolution,
                     iterations: iteration,
                     status: ContactStatus::Converged,
-                }));
+                })));
             }
             StepOutcome::Step { dt, pair, distance } => {
                 cache.pair = pair.or(cache.pair);
                 last_distance = distance;
                 if t + dt >= span.end {
-                    return Ok(None);
+                    return Ok(Probed::Advanced(None));
                 }
                 if distance > resolution {
                     earlier = Some(t);
@@ -453,6 +506,13 @@ pub(crate) fn advance_paths(
                 // window grow faster: a turning body certified by the rotation shells would
                 // otherwise double its way to the end.
                 window = if pair.is_none() { 8.0 * dt } else { 2.0 * dt };
+                if probing && iteration == probe::PROBE_AFTER {
+                    // Certified apart up to `t`: probe the rest if the pace is slow.
+                    let found = probe::probe_rest(mesh1, path1, mesh2, path2, span, t, iteration);
+                    if let Some(at) = found {
+                        return Ok(Probed::Collides(at));
+                    }
+                }
             }
         }
     }
