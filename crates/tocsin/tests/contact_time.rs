@@ -518,7 +518,10 @@ fn motion_is_free_under_an_iteration_cap() {
             match (free, time_of_contact(&knot, &mo, &knot, &still, &opts)) {
                 (Ok(free), Ok(r)) => assert_eq!(free, r.is_none(), "{label}"),
                 (Ok(false), Err(_)) => {
-                    assert!(full.is_some(), "{label}: a probe called a free motion colliding");
+                    assert!(
+                        full.is_some(),
+                        "{label}: a probe called a free motion colliding"
+                    );
                     settled_by_probes += 1;
                 }
                 (
