@@ -428,7 +428,7 @@ pub(crate) fn advance_paths(
     cache: &mut ContactCache,
 ) -> Result<Option<Ends>, ContactError> {
     Ok(
-        match advance_core(mesh1, path1, mesh2, path2, span, cache, false)? {
+        match advance_core::<false>(mesh1, path1, mesh2, path2, span, cache)? {
             probe::Probed::Advanced(ends) => ends,
             // Not reached without probes; were it, a collision at `time` is a contact.
             probe::Probed::Collides(time) => Some(Ends {
@@ -442,16 +442,16 @@ pub(crate) fn advance_paths(
     )
 }
 
-/// [`advance_paths`], and with `probing` the yes/no answer's probes after
-/// [`probe::PROBE_AFTER`] iterations ([`probe::advance_probed`]).
-fn advance_core(
+/// [`advance_paths`], and with `PROBING` the yes/no answer's probes after
+/// [`probe::PROBE_AFTER`] iterations ([`probe::advance_probed`]). A constant, so that the
+/// time of contact's advancement is compiled without them.
+fn advance_core<const PROBING: bool>(
     mesh1: &TriMesh,
     path1: Path<'_>,
     mesh2: &TriMesh,
     path2: Path<'_>,
     span: &Span,
     cache: &mut ContactCache,
-    probing: bool,
 ) -> Result<probe::Probed, ContactError> {
     use probe::Probed;
     let (delta, resolution) = (span.delta, span.resolution);
@@ -506,7 +506,7 @@ fn advance_core(
                 // window grow faster: a turning body certified by the rotation shells would
                 // otherwise double its way to the end.
                 window = if pair.is_none() { 8.0 * dt } else { 2.0 * dt };
-                if probing && iteration == probe::PROBE_AFTER {
+                if PROBING && iteration == probe::PROBE_AFTER {
                     // Certified apart up to `t`: probe the rest if the pace is slow.
                     let found = probe::probe_rest(mesh1, path1, mesh2, path2, span, t, iteration);
                     if let Some(at) = found {

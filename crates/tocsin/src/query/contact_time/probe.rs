@@ -85,7 +85,7 @@ pub(crate) fn advance_probed(
     span: &Span,
     cache: &mut ContactCache,
 ) -> Result<Probed, ContactError> {
-    advance_core(mesh1, path1, mesh2, path2, span, cache, true)
+    advance_core::<true>(mesh1, path1, mesh2, path2, span, cache)
 }
 
 /// Step 2 of the module docs: the advancement has certified the meshes apart up to
