@@ -214,6 +214,21 @@ fn random_soups_and_motions_against_sampling() {
     );
 }
 
+/// A turning pass of motion kind `kind` along a random direction, from 12 units before the
+/// origin to `reach` units past it and up to `spread` off the line.
+fn random_pass(rng: &mut impl Rng, kind: usize, reach: f64, spread: f64) -> Motion {
+    let dir = random_unit(rng);
+    let s1 = Pose {
+        rotation: random_rotation(rng),
+        translation: -12.0 * dir,
+    };
+    let e1 = Pose {
+        rotation: random_rotation(rng),
+        translation: reach * dir + random_unit(rng) * rng.random_range(0.0..spread),
+    };
+    random_motion(rng, kind, s1, e1)
+}
+
 /// `cases` passes of `knot` (turning, every motion kind in turn) past a still copy from 12
 /// units away, ending up to `spread` off the line, each checked against sampling; the number
 /// that made contact.
@@ -222,16 +237,7 @@ fn knot_passes(knot: &TriMesh, seed: u64, cases: usize, spread: f64, label: &str
     let mut hits = 0;
     for case in 0..cases {
         let kind = case % 3;
-        let dir = random_unit(&mut rng);
-        let s1 = Pose {
-            rotation: random_rotation(&mut rng),
-            translation: -12.0 * dir,
-        };
-        let e1 = Pose {
-            rotation: random_rotation(&mut rng),
-            translation: 12.0 * dir + random_unit(&mut rng) * rng.random_range(0.0..spread),
-        };
-        let mo1 = random_motion(&mut rng, kind, s1, e1);
+        let mo1 = random_pass(&mut rng, kind, 12.0, spread);
         hits += usize::from(check(
             knot,
             &mo1,
@@ -494,19 +500,10 @@ fn motion_is_free_under_an_iteration_cap() {
     let (mut settled_by_probes, mut capped_errors) = (0, 0);
     for case in 0..30 {
         let kind = case % 3;
-        let dir = random_unit(&mut rng);
-        let s1 = Pose {
-            rotation: random_rotation(&mut rng),
-            translation: -12.0 * dir,
-        };
-        let e1 = Pose {
-            rotation: random_rotation(&mut rng),
-            // Far past the still knot, or across it: collisions away from the middle and the
-            // end (found by the advancement or the later probes), near misses and misses.
-            translation: rng.random_range(12.0..40.0) * dir
-                + random_unit(&mut rng) * rng.random_range(0.0..8.0),
-        };
-        let mo = random_motion(&mut rng, kind, s1, e1);
+        // Far past the still knot, or across it: collisions away from the middle and the end
+        // (found by the advancement or the later probes), near misses and misses.
+        let reach = rng.random_range(12.0..40.0);
+        let mo = random_pass(&mut rng, kind, reach, 8.0);
         let full = time_of_contact(&knot, &mo, &knot, &still, &ContactOptions::default()).unwrap();
         for cap in 1..=8 {
             let opts = ContactOptions {

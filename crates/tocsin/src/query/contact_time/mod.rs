@@ -236,23 +236,14 @@ pub fn motion_is_free(
     motion2: &Motion,
     options: &ContactOptions,
 ) -> Result<bool, ContactError> {
-    let (delta, scale, max_iterations) = checked(mesh1, motion1, mesh2, motion2, options)?;
+    let checked = checked(mesh1, motion1, mesh2, motion2, options)?;
     let (path1, path2) = (Path::Rigid(motion1), Path::Rigid(motion2));
     if probe::probe_span(mesh1, path1, mesh2, path2, 0.0, 1.0).is_some() {
         return Ok(false);
     }
-    let span = Span {
-        start: 0.0,
-        end: 1.0,
-        delta,
-        resolution: NORMAL_RESOLUTION * scale,
-        max_iterations,
-        first_window: 1.0,
-        slack: (FAR_SLACK, NEAR_SLACK),
-        // A yes/no answer needs no collision test at the start: touching meshes end the
-        // first step search just the same.
-        start_free: true,
-    };
+    // A yes/no answer needs no collision test at the start: touching meshes end the first
+    // step search just the same.
+    let span = Span::whole_motion(checked, true);
     let mut cache = ContactCache::default();
     Ok(
         match probe::advance_probed(mesh1, path1, mesh2, path2, &span, &mut cache)? {
@@ -299,20 +290,11 @@ fn advance_validated(
     motion1: &Motion,
     mesh2: &TriMesh,
     motion2: &Motion,
-    (delta, scale, max_iterations): (f64, f64, usize),
+    checked: (f64, f64, usize),
     cache: &mut ContactCache,
     start_free: bool,
 ) -> Result<Option<Ends>, ContactError> {
-    let span = Span {
-        start: 0.0,
-        end: 1.0,
-        delta,
-        resolution: NORMAL_RESOLUTION * scale,
-        max_iterations,
-        first_window: 1.0,
-        slack: (FAR_SLACK, NEAR_SLACK),
-        start_free,
-    };
+    let span = Span::whole_motion(checked, start_free);
     advance_paths(
         mesh1,
         Path::Rigid(motion1),
@@ -414,6 +396,23 @@ pub(crate) struct Span {
     /// skipped. Were they touching after all, the first step search would find a pair within
     /// the tolerance and end at `start` just the same, with [`ContactStatus::Converged`].
     pub start_free: bool,
+}
+
+impl Span {
+    /// A rigid query's span: all of `[0, 1]` with the default window and slacks, from the
+    /// checked options (tolerance, scene scale, iteration cap; see `checked`).
+    fn whole_motion((delta, scale, max_iterations): (f64, f64, usize), start_free: bool) -> Self {
+        Self {
+            start: 0.0,
+            end: 1.0,
+            delta,
+            resolution: NORMAL_RESOLUTION * scale,
+            max_iterations,
+            first_window: 1.0,
+            slack: (FAR_SLACK, NEAR_SLACK),
+            start_free,
+        }
+    }
 }
 
 /// The advancement over `[span.start, span.end]`: where it ended when the meshes came within

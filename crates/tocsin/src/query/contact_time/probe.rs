@@ -68,15 +68,15 @@ pub(crate) fn probe_span(
 
 /// How a yes/no advancement ended.
 pub(crate) enum Probed {
-    /// The advancement's own answer (as [`advance_paths`](super::advance_paths)): where it came within the
-    /// tolerance, or `None` when the span is free.
+    /// The advancement's own answer (as [`advance_paths`](super::advance_paths)): where it
+    /// came within the tolerance, or `None` when the span is free.
     Advanced(Option<Ends>),
     /// A probe found the meshes colliding at this time.
     Collides(f64),
 }
 
-/// [`advance_paths`](super::advance_paths) for a yes/no answer, with the probes of step 2 of the module docs (the
-/// caller makes those of step 1 first, with [`probe_span`]).
+/// [`advance_paths`](super::advance_paths) for a yes/no answer, with the probes of step 2 of
+/// the module docs (the caller makes those of step 1 first, with [`probe_span`]).
 pub(crate) fn advance_probed(
     mesh1: &TriMesh,
     path1: Path<'_>,
