@@ -22,8 +22,8 @@ use clap::{Parser, Subcommand};
 use serde_json::json;
 use std::process::ExitCode;
 use tocsin::{
-    collide, collide_pairs, distance, time_of_contact, within_distance, ContactOptions,
-    ContactTime, DistanceOptions, Motion, Pose, TriMesh,
+    collide, collide_pairs, distance, motion_is_free, time_of_contact, within_distance,
+    ContactOptions, ContactTime, DistanceOptions, Motion, Pose, TriMesh,
 };
 
 #[derive(Parser)]
@@ -74,8 +74,8 @@ struct MotionArgs {
 }
 
 impl MotionArgs {
-    /// Loads the meshes, parses the motions and runs the time-of-contact query.
-    fn run(&self) -> Result<(TriMesh, Motion, TriMesh, Motion, Option<ContactTime>), String> {
+    /// Loads the meshes and parses the motions and the options.
+    fn load(&self) -> Result<(TriMesh, Motion, TriMesh, Motion, ContactOptions), String> {
         let (m1, m2) = (
             spec::load_mesh(&self.mesh1, None)?,
             spec::load_mesh(&self.mesh2, None)?,
@@ -86,6 +86,12 @@ impl MotionArgs {
             tolerance: self.tolerance,
             max_iterations: self.max_iterations,
         };
+        Ok((m1, mo1, m2, mo2, opts))
+    }
+
+    /// Loads the meshes, parses the motions and runs the time-of-contact query.
+    fn run(&self) -> Result<(TriMesh, Motion, TriMesh, Motion, Option<ContactTime>), String> {
+        let (m1, mo1, m2, mo2, opts) = self.load()?;
         let r = time_of_contact(&m1, &mo1, &m2, &mo2, &opts).map_err(|e| e.to_string())?;
         Ok((m1, mo1, m2, mo2, r))
     }
@@ -112,10 +118,15 @@ enum Command {
         #[arg(long)]
         pairs: bool,
     },
-    /// First time of contact of two moving meshes over t in [0, 1].
+    /// First time of contact of two moving meshes over t in [0, 1]; with --free-only, whether
+    /// the motions are free of contact.
     ContactTime {
         #[command(flatten)]
         motions: MotionArgs,
+        /// Only whether the motions are free of contact (`motion_is_free`: stops as soon as the
+        /// answer is known, no witnesses).
+        #[arg(long)]
+        free_only: bool,
     },
     /// Like contact-time, and writes a PNG of the two meshes at the time of contact (at t = 1
     /// when there is none) with the witness points and the normal marked.
@@ -236,12 +247,20 @@ fn run(cli: Cli) -> Result<serde_json::Value, String> {
                 Ok(json!({ "collide": collide(&m1, &p1, &m2, &p2) }))
             }
         }
-        Command::ContactTime { motions } => {
+        Command::ContactTime {
+            motions,
+            free_only: true,
+        } => {
+            let (m1, mo1, m2, mo2, opts) = motions.load()?;
             let start = std::time::Instant::now();
-            let (.., r) = motions.run()?;
-            let mut out = spec::contact_json(&r);
-            out["seconds"] = json!(start.elapsed().as_secs_f64());
-            Ok(out)
+            let free = motion_is_free(&m1, &mo1, &m2, &mo2, &opts).map_err(|e| e.to_string())?;
+            Ok(timed(json!({ "free": free }), start))
+        }
+        Command::ContactTime { motions, .. } => {
+            let (m1, mo1, m2, mo2, opts) = motions.load()?;
+            let start = std::time::Instant::now();
+            let r = time_of_contact(&m1, &mo1, &m2, &mo2, &opts).map_err(|e| e.to_string())?;
+            Ok(timed(spec::contact_json(&r), start))
         }
         Command::RenderContact { motions, out, size } => {
             let (m1, mo1, m2, mo2, r) = motions.run()?;
@@ -317,7 +336,7 @@ fn run(cli: Cli) -> Result<serde_json::Value, String> {
     }
 }
 
-/// `v` with the seconds since `start` added (the penetration queries report their time).
+/// `v` with the seconds since `start` added (the query's own time, after loading).
 fn timed(mut v: serde_json::Value, start: std::time::Instant) -> serde_json::Value {
     v["seconds"] = json!(start.elapsed().as_secs_f64());
     v

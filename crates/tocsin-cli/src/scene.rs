@@ -10,6 +10,8 @@
 //!     { "query": "contact_time", "mesh1": "a", "mesh2": "b",
 //!       "motion1": { "kind": "screw", "start": [-14, 1, 0.5], "end": [14, 0, 0, 0, 0, 1.2] },
 //!       "tolerance": 0.001 },
+//!     { "query": "motion_is_free", "mesh1": "a", "mesh2": "b",
+//!       "motion1": { "kind": "translation", "start": [-14, 1, 0.5], "end": [14, 1, 0.5] } },
 //!     { "query": "penetration", "mesh1": "a", "mesh2": "a", "pose2": [0.3, 0, 0] },
 //!     { "query": "pointwise", "mesh1": "a", "mesh2": "a", "pose2": [0.3, 0, 0], "max_error": 1e-3 },
 //!     { "query": "hausdorff", "mesh1": "a", "mesh2": "b", "symmetric": true } ] }
@@ -29,9 +31,9 @@ use std::collections::BTreeMap;
 use std::io::IsTerminal;
 use tocsin::query::penetration::default_max_error;
 use tocsin::{
-    collide, distance, hausdorff_distance, penetration_depth, pointwise_penetration,
-    time_of_contact, within_distance, ContactOptions, DepthOptions, DistanceOptions, Motion, Pose,
-    TriMesh, Vec3,
+    collide, distance, hausdorff_distance, motion_is_free, penetration_depth,
+    pointwise_penetration, time_of_contact, within_distance, ContactOptions, DepthOptions,
+    DistanceOptions, Motion, Pose, TriMesh, Vec3,
 };
 
 #[derive(Deserialize)]
@@ -108,6 +110,14 @@ enum Query {
         threshold: f64,
     },
     ContactTime {
+        mesh1: String,
+        mesh2: String,
+        motion1: Option<MotionSpec>,
+        motion2: Option<MotionSpec>,
+        tolerance: Option<f64>,
+        max_iterations: Option<usize>,
+    },
+    MotionIsFree {
         mesh1: String,
         mesh2: String,
         motion1: Option<MotionSpec>,
@@ -251,21 +261,35 @@ pub fn run(path: &str) -> Result<Value, String> {
                 motion2,
                 tolerance,
                 max_iterations,
+            }
+            | Query::MotionIsFree {
+                mesh1,
+                mesh2,
+                motion1,
+                motion2,
+                tolerance,
+                max_iterations,
             } => {
                 let opts = ContactOptions {
                     tolerance: *tolerance,
                     max_iterations: max_iterations
                         .unwrap_or(ContactOptions::default().max_iterations),
                 };
-                let r = time_of_contact(
+                let (m1, mo1, m2, mo2) = (
                     get(mesh1, i)?,
-                    &motion(motion1, &at("motion1"))?,
+                    motion(motion1, &at("motion1"))?,
                     get(mesh2, i)?,
-                    &motion(motion2, &at("motion2"))?,
-                    &opts,
-                )
-                .map_err(|e| format!("query {i}: {e}"))?;
-                contact_json(&r)
+                    motion(motion2, &at("motion2"))?,
+                );
+                if matches!(q, Query::MotionIsFree { .. }) {
+                    let free = motion_is_free(m1, &mo1, m2, &mo2, &opts)
+                        .map_err(|e| format!("query {i}: {e}"))?;
+                    json!({ "free": free })
+                } else {
+                    let r = time_of_contact(m1, &mo1, m2, &mo2, &opts)
+                        .map_err(|e| format!("query {i}: {e}"))?;
+                    contact_json(&r)
+                }
             }
             Query::Penetration {
                 mesh1,

@@ -93,6 +93,44 @@ fn contact_time_prints_json() {
     );
 }
 
+/// `--free-only` answers `motion_is_free`: the same yes/no as the time of contact on a
+/// colliding translation, a screw that misses and a start in contact; bad options are one line
+/// with status 2, as without it.
+#[test]
+fn contact_time_free_only() {
+    for (motion, free) in [
+        ("translation:3,0,0:-1,0,0", false),
+        ("screw:-3,0,2:3,0,2,0,0,1", true),
+        ("translation:0.5,0,0:3,0,0", false),
+    ] {
+        let args = [
+            "contact-time",
+            "builtin:box",
+            "builtin:box",
+            "--motion1",
+            motion,
+        ];
+        let (code, out, err) = tocsin(&[&args[..], &["--free-only"]].concat());
+        assert_eq!(code, 0, "{err}");
+        let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+        assert_eq!(v["free"], free, "{motion}: {v}");
+        assert!(v["seconds"].as_f64().unwrap() >= 0.0);
+        let (_, out, _) = tocsin(&args);
+        let toc: serde_json::Value = serde_json::from_str(&out).unwrap();
+        assert_eq!(toc["contact"], !free, "{motion}: {toc}");
+    }
+    let (code, out, err) = tocsin(&[
+        "contact-time",
+        "builtin:box",
+        "builtin:box",
+        "--free-only",
+        "--tolerance=-1",
+    ]);
+    assert_eq!((code, out.as_str()), (2, ""));
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    assert!(err.contains("tolerance"), "{err}");
+}
+
 fn scene_file(name: &str, text: &str) -> String {
     let dir = std::env::temp_dir().join(format!("tocsin-cli-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
@@ -114,13 +152,17 @@ fn scene_files_in_json_and_toml() {
           "motion1": { "kind": "interp", "start": [-14, 1, 0.5], "end": [14, 0, 0, 0, 0, 1.2], "center": [0, 0, 0] } },
         { "query": "penetration", "mesh1": "a", "mesh2": "a", "pose2": [0.8, 0, 0] },
         { "query": "pointwise", "mesh1": "a", "mesh2": "a", "pose2": [0.8, 0, 0], "max_error": 1e-6 },
-        { "query": "hausdorff", "mesh1": "a", "mesh2": "a", "pose2": [0, 0, 0.25], "symmetric": true }
+        { "query": "hausdorff", "mesh1": "a", "mesh2": "a", "pose2": [0, 0, 0.25], "symmetric": true },
+        { "query": "motion_is_free", "mesh1": "a", "mesh2": "a",
+          "motion1": { "kind": "translation", "start": [3, 0, 0], "end": [-1, 0, 0] } },
+        { "query": "motion_is_free", "mesh1": "a", "mesh2": "a", "max_iterations": 50,
+          "motion1": { "kind": "translation", "start": [3, 0, 0], "end": [3, 0, 5] } }
       ] }"#;
     let (code, out, err) = tocsin(&["run", &scene_file("s.json", json)]);
     assert_eq!(code, 0, "{err}");
     let v: serde_json::Value = serde_json::from_str(&out).unwrap();
     let r = v["results"].as_array().unwrap();
-    assert_eq!(r.len(), 8);
+    assert_eq!(r.len(), 10);
     // Unit boxes overlapping by 0.2 along x: pushed apart by 0.2, deepest points 0.2 inside;
     // lifted by 0.25: every point of one within 0.25 of the other.
     assert_eq!(r[5]["status"], "converged");
@@ -145,6 +187,8 @@ fn scene_files_in_json_and_toml() {
     let t = r[3]["time"].as_f64().unwrap();
     assert!(t <= 0.5 && t > 0.5 - 1e-6);
     assert_eq!(r[4]["contact"], true);
+    assert_eq!(r[8], serde_json::json!({ "free": false }));
+    assert_eq!(r[9], serde_json::json!({ "free": true }));
     let toml = r#"
 [meshes]
 a = "builtin:box"

@@ -16,7 +16,9 @@ const JSON: &str = r#"{"meshes": {"a": "builtin:box", "p": "builtin:plate"},
   {"query": "collide", "mesh1": "a", "mesh2": "a", "pose1": [0, 0, 0, 0, 0, 0.3], "pose2": [0.5, 0, 0]},
   {"query": "within", "mesh1": "a", "mesh2": "a", "pose2": [2, 0, 0], "threshold": 1.5},
   {"query": "contact_time", "mesh1": "a", "mesh2": "a", "tolerance": 0.001, "max_iterations": 50,
-   "motion1": {"kind": "interp", "start": [-3, 0, 0], "end": [3, 0, 0, 0, 0, 1], "center": [0, 0, 0]}}]}"#;
+   "motion1": {"kind": "interp", "start": [-3, 0, 0], "end": [3, 0, 0, 0, 0, 1], "center": [0, 0, 0]}},
+  {"query": "motion_is_free", "mesh1": "a", "mesh2": "a", "max_iterations": 50,
+   "motion1": {"kind": "translation", "start": [-3, 0, 0], "end": [3, 0, 2]}}]}"#;
 
 const TOML: &str = r#"[meshes]
 a = "builtin:box"
