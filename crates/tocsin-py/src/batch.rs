@@ -111,6 +111,58 @@ type ContactArrays<'py> = (
     Bound<'py, PyArray1<f64>>,
 );
 
+/// The K motion pairs of a batch: body 1 from `starts1[k]` to `ends1[k]`, body 2 from
+/// `starts2[k]` to `ends2[k]` (a single pose is used for every row), both of `kind`.
+fn motion_pairs(
+    py: Python<'_>,
+    (starts1, ends1): (&Bound<'_, PyAny>, &Bound<'_, PyAny>),
+    (starts2, ends2): (&Bound<'_, PyAny>, &Bound<'_, PyAny>),
+    kind: &str,
+) -> PyResult<Vec<(tocsin::Motion, tocsin::Motion)>> {
+    let s1 = poses_from(starts1, "starts1", None)?;
+    let k = Some(s1.len());
+    let (e1, s2, e2) = (
+        poses_from(ends1, "ends1", k)?,
+        poses_from(starts2, "starts2", k)?,
+        poses_from(ends2, "ends2", k)?,
+    );
+    let m1 = motions_from(kind, &s1, &e1, py, "motions1")?;
+    let m2 = motions_from(kind, &s2, &e2, py, "motions2")?;
+    Ok(m1.into_iter().zip(m2).collect())
+}
+
+type FreeArrays<'py> = (Bound<'py, PyArray1<bool>>, Bound<'py, PyArray1<bool>>);
+
+/// Whether K motions are free of contact: (free, decided) boolean arrays; a row that reached
+/// the iteration cap first is undecided and not free.
+#[pyfunction]
+#[pyo3(signature = (mesh1, starts1, ends1, mesh2, starts2, ends2, kind, tolerance=None, max_iterations=None))]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn _motion_is_free_batch<'py>(
+    py: Python<'py>,
+    mesh1: &Mesh,
+    starts1: &Bound<'_, PyAny>,
+    ends1: &Bound<'_, PyAny>,
+    mesh2: &Mesh,
+    starts2: &Bound<'_, PyAny>,
+    ends2: &Bound<'_, PyAny>,
+    kind: &str,
+    tolerance: Option<f64>,
+    max_iterations: Option<&Bound<'_, PyAny>>,
+) -> PyResult<FreeArrays<'py>> {
+    let opts = contact_options(py, tolerance, max_iterations)?;
+    let pairs = motion_pairs(py, (starts1, ends1), (starts2, ends2), kind)?;
+    let (a, b) = (mesh1.inner.clone(), mesh2.inner.clone());
+    let r = pool::run(py, || tocsin::motion_is_free_batch(&a, &b, &pairs, &opts))?
+        .map_err(|e| options_error(py, e))?;
+    let free = r.iter().map(|x| matches!(x, Ok(true))).collect();
+    let decided = r.iter().map(Result::is_ok).collect();
+    Ok((
+        PyArray1::from_vec(py, free),
+        PyArray1::from_vec(py, decided),
+    ))
+}
+
 /// Times of contact for K motions: arrays, NaN / -1 where there is no contact; status codes
 /// 0 none, 1 converged, 2 started in contact, 3 iteration limit (no contact, undecided), and
 /// the time up to which each motion is known free of contact.
@@ -130,16 +182,7 @@ pub(crate) fn _time_of_contact_batch<'py>(
     max_iterations: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<ContactArrays<'py>> {
     let opts = contact_options(py, tolerance, max_iterations)?;
-    let s1 = poses_from(starts1, "starts1", None)?;
-    let k = Some(s1.len());
-    let (e1, s2, e2) = (
-        poses_from(ends1, "ends1", k)?,
-        poses_from(starts2, "starts2", k)?,
-        poses_from(ends2, "ends2", k)?,
-    );
-    let m1 = motions_from(kind, &s1, &e1, py, "motions1")?;
-    let m2 = motions_from(kind, &s2, &e2, py, "motions2")?;
-    let pairs: Vec<(tocsin::Motion, tocsin::Motion)> = m1.into_iter().zip(m2).collect();
+    let pairs = motion_pairs(py, (starts1, ends1), (starts2, ends2), kind)?;
     let (a, b) = (mesh1.inner.clone(), mesh2.inner.clone());
     let r = pool::run(py, || tocsin::time_of_contact_batch(&a, &b, &pairs, &opts))?
         .map_err(|e| options_error(py, e))?;

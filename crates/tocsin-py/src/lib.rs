@@ -40,6 +40,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(batch::_distance_batch, m)?)?;
     m.add_function(wrap_pyfunction!(batch::_collide_batch, m)?)?;
     m.add_function(wrap_pyfunction!(batch::_time_of_contact_batch, m)?)?;
+    m.add_function(wrap_pyfunction!(batch::_motion_is_free_batch, m)?)?;
     m.add_function(wrap_pyfunction!(penetration::winding_number, m)?)?;
     m.add_function(wrap_pyfunction!(penetration::contains, m)?)?;
     m.add_function(wrap_pyfunction!(penetration::hausdorff_distance, m)?)?;

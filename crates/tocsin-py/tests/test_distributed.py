@@ -55,6 +55,9 @@ def test_same_results_as_the_local_batches(cluster, chunk):
     d = distributed.time_of_contact_batch(knot, poses, ends, knot, kind="screw", chunk_size=chunk)
     same(d, tocsin.time_of_contact_batch(knot, poses, ends, knot, kind="screw"))
     assert 0 < np.isfinite(d.time).sum() < 40
+    f = distributed.motion_is_free_batch(knot, poses, ends, knot, kind="screw", chunk_size=chunk)
+    same(f, tocsin.motion_is_free_batch(knot, poses, ends, knot, kind="screw"))
+    assert list(f.free) == list(~np.isfinite(d.time))
 
 
 def test_a_mesh_is_put_once_across_calls(cluster):
@@ -112,6 +115,7 @@ def test_empty_input(cluster):
     same(distributed.distance_batch(knot, empty, knot, np.eye(4)), tocsin.distance_batch(knot, empty, knot, np.eye(4)))
     same(distributed.collide_batch(knot, empty, knot, empty), tocsin.collide_batch(knot, empty, knot, empty))
     same(distributed.time_of_contact_batch(knot, empty, empty, knot), tocsin.time_of_contact_batch(knot, empty, empty, knot))
+    same(distributed.motion_is_free_batch(knot, empty, empty, knot), tocsin.motion_is_free_batch(knot, empty, empty, knot))
 
 
 def test_a_bad_chunk_is_reported_with_its_index(cluster):

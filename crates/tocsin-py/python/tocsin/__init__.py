@@ -39,7 +39,15 @@ from ._core import (
     within_distance,
 )
 from ._core import time_of_contact as _rigid_time_of_contact
-from ._batch import ContactBatch, DistanceBatch, collide_batch, distance_batch, time_of_contact_batch
+from ._batch import (
+    ContactBatch,
+    DistanceBatch,
+    FreeBatch,
+    collide_batch,
+    distance_batch,
+    motion_is_free_batch,
+    time_of_contact_batch,
+)
 from ._plot import plot_contact
 from ._errors import (
     ConfigurationError,
@@ -152,6 +160,7 @@ __all__ = [
     "ContactResult",
     "DistanceBatch",
     "DistanceResult",
+    "FreeBatch",
     "IterationLimitError",
     "Mesh",
     "MeshError",
@@ -168,6 +177,7 @@ __all__ = [
     "distance",
     "distance_batch",
     "motion_is_free",
+    "motion_is_free_batch",
     "orthonormalize",
     "plot_contact",
     "time_of_contact",

@@ -58,6 +58,16 @@ class ContactBatch(NamedTuple):
     of contact for contacts, the time reached for 'iteration_limit'."""
 
 
+class FreeBatch(NamedTuple):
+    """Whether K motions are free of contact (``tocsin.motion_is_free`` for each)."""
+
+    free: npt.NDArray[np.bool_]
+    """(K,) True where the motion stays farther apart than the tolerance: certified free."""
+    decided: npt.NDArray[np.bool_]
+    """(K,) False where the iteration cap was reached before the answer was known; such a row
+    is not free (``free`` is False), and a planner should treat it as blocked."""
+
+
 def distance_batch(
     mesh1: Mesh,
     poses1: npt.ArrayLike,
@@ -95,3 +105,28 @@ def time_of_contact_batch(
         mesh1, starts1, ends1, mesh2, starts2, ends2, kind, tolerance, max_iterations
     )
     return ContactBatch(t, p1, p2, n, d, t1, t2, it, _STATUS[st], free)
+
+
+def motion_is_free_batch(
+    mesh1: Mesh,
+    starts1: npt.ArrayLike,
+    ends1: npt.ArrayLike,
+    mesh2: Mesh,
+    starts2: Optional[npt.ArrayLike] = None,
+    ends2: Optional[npt.ArrayLike] = None,
+    kind: str = "interp",
+    tolerance: Optional[float] = None,
+    max_iterations: Optional[int] = None,
+) -> FreeBatch:
+    """tocsin.motion_is_free for K motions, the way time_of_contact_batch takes them: body 1
+    from starts1[k] to ends1[k] (and body 2 from starts2[k] to ends2[k]; it stays at the
+    identity when they are omitted), `kind` 'translation', 'interp' (about the body origin) or
+    'screw' for both. The planner's check of many rigid motions at once: no witnesses, and each
+    row stops as soon as its answer is known. A row that reaches the iteration cap is undecided
+    (``decided`` False) rather than an error."""
+    starts2 = np.eye(4) if starts2 is None else starts2
+    ends2 = starts2 if ends2 is None else ends2
+    free, decided = _core._motion_is_free_batch(
+        mesh1, starts1, ends1, mesh2, starts2, ends2, kind, tolerance, max_iterations
+    )
+    return FreeBatch(free, decided)

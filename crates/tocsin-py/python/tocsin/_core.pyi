@@ -30,6 +30,7 @@ __all__ = [
     "Scene",
     "_collide_batch",
     "_distance_batch",
+    "_motion_is_free_batch",
     "_time_of_contact_batch",
     "collide",
     "collide_pairs",
@@ -282,6 +283,18 @@ def _time_of_contact_batch(
     npt.NDArray[np.int64],
     npt.NDArray[np.float64],
 ]: ...
+
+def _motion_is_free_batch(
+    mesh1: Mesh,
+    starts1: ArrayLike,
+    ends1: ArrayLike,
+    mesh2: Mesh,
+    starts2: ArrayLike,
+    ends2: ArrayLike,
+    kind: str,
+    tolerance: Optional[float] = None,
+    max_iterations: Optional[int] = None,
+) -> tuple[npt.NDArray[np.bool_], npt.NDArray[np.bool_]]: ...
 
 
 _Path = Union[str, "PathLike[str]"]

@@ -60,6 +60,7 @@ __all__ = [
     "distance_batch",
     "collide_batch",
     "time_of_contact_batch",
+    "motion_is_free_batch",
     "paths_are_free",
     "check_configurations",
     "first_contacts",
@@ -329,6 +330,31 @@ def time_of_contact_batch(
     rows, fixed, count = _split({"starts1": starts1, "ends1": ends1, "starts2": starts2, "ends2": ends2})
     fixed.update({"kind": kind, "tolerance": tolerance, "max_iterations": max_iterations})
     return _run(_batch.time_of_contact_batch, {"mesh1": mesh1, "mesh2": mesh2}, rows, fixed,
+                count, chunk_size, address, progress, max_retries)
+
+
+def motion_is_free_batch(
+    mesh1: Mesh,
+    starts1,
+    ends1,
+    mesh2: Mesh,
+    starts2=None,
+    ends2=None,
+    kind: str = "interp",
+    tolerance: Optional[float] = None,
+    max_iterations: Optional[int] = None,
+    *,
+    chunk_size: Optional[int] = None,
+    address: Optional[str] = None,
+    progress: bool = False,
+    max_retries: int = 3,
+) -> _batch.FreeBatch:
+    """``tocsin.motion_is_free_batch`` on the Ray cluster: identical results, in input order."""
+    starts2 = np.eye(4) if starts2 is None else starts2
+    ends2 = starts2 if ends2 is None else ends2
+    rows, fixed, count = _split({"starts1": starts1, "ends1": ends1, "starts2": starts2, "ends2": ends2})
+    fixed.update({"kind": kind, "tolerance": tolerance, "max_iterations": max_iterations})
+    return _run(_batch.motion_is_free_batch, {"mesh1": mesh1, "mesh2": mesh2}, rows, fixed,
                 count, chunk_size, address, progress, max_retries)
 
 

@@ -574,6 +574,25 @@ pub fn time_of_contact_batch(
         .collect())
 }
 
+/// [`motion_is_free`] for every `(motion1, motion2)` in `motions`, in parallel (rayon): the
+/// planner's check of many rigid motions at once. Results in input order, identical to the
+/// single queries whatever the thread count; the options are checked first (also for an empty
+/// batch), and each query's own outcome, an iteration limit included, is its entry.
+pub fn motion_is_free_batch(
+    mesh1: &TriMesh,
+    mesh2: &TriMesh,
+    motions: &[(Motion, Motion)],
+    options: &ContactOptions,
+) -> Result<Vec<Result<bool, ContactError>>, OptionsError> {
+    use rayon::prelude::*;
+    let still = Motion::stationary(crate::Pose::IDENTITY);
+    validate(mesh1, &still, mesh2, &still, options)?;
+    Ok(motions
+        .par_iter()
+        .map(|(m1, m2)| motion_is_free(mesh1, m1, mesh2, m2, options))
+        .collect())
+}
+
 /// How the advancement ended: the time, the last iterate before it where the meshes were
 /// clearly apart, the scale below which a direction is noise, the count and the status.
 pub(crate) struct Ends {
