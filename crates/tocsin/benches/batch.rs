@@ -1,6 +1,8 @@
 //! Batch throughput on knot34k vs knot34k at 1 and 2 threads (`make bench`).
 //! Time of contact: 200 seeded interp passes of body 1 through body 2 (30 to 90 degree turns);
-//! distance: 400 seeded random poses. Prints queries per second and the 2-thread speed-up.
+//! the same passes as yes/no questions (`motion_is_free_batch`), and moved sideways by 0.7
+//! radii so that some pass beside body 2 (how many are free is printed); distance: 400 seeded
+//! random poses. Prints queries per second and the 2-thread speed-up.
 
 #![allow(clippy::unwrap_used, clippy::panic)]
 
@@ -11,8 +13,8 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::time::Instant;
 use tocsin::{
-    collide_batch, distance_batch, mesh, time_of_contact_batch, ContactOptions, DistanceOptions,
-    Mat3, Motion, Pose, Vec3,
+    collide_batch, distance_batch, mesh, motion_is_free_batch, time_of_contact_batch,
+    ContactOptions, DistanceOptions, Mat3, Motion, Pose, Vec3,
 };
 
 fn best_of<T>(n: usize, mut f: impl FnMut() -> T) -> f64 {
@@ -45,6 +47,19 @@ fn main() {
             (Motion::interp(start, end, Vec3::ZERO).unwrap(), still)
         })
         .collect();
+    // The same passes moved sideways (across their direction) by 0.7 radii: some free.
+    let beside: Vec<(Motion, Motion)> = motions
+        .iter()
+        .map(|(m, s)| {
+            let (a, b) = (m.pose_at(0.0), m.pose_at(1.0));
+            let side = (b.translation - a.translation).any_orthonormal_vector() * 0.7 * r;
+            let moved = |p: Pose| Pose {
+                rotation: p.rotation,
+                translation: p.translation + side,
+            };
+            (Motion::interp(moved(a), moved(b), Vec3::ZERO).unwrap(), *s)
+        })
+        .collect();
     let poses: Vec<(Pose, Pose)> = (0..400)
         .map(|_| {
             let p = Pose {
@@ -74,6 +89,25 @@ fn main() {
     run("time_of_contact_batch (interp)", motions.len(), &|| {
         time_of_contact_batch(&knot, &knot, &motions, &copts).unwrap();
     });
+    run(
+        "motion_is_free_batch (the same passes)",
+        motions.len(),
+        &|| {
+            motion_is_free_batch(&knot, &knot, &motions, &copts).unwrap();
+        },
+    );
+    let free = motion_is_free_batch(&knot, &knot, &beside, &copts)
+        .unwrap()
+        .iter()
+        .filter(|f| matches!(f, Ok(true)))
+        .count();
+    run(
+        &format!("motion_is_free_batch (beside: {free} free)"),
+        beside.len(),
+        &|| {
+            motion_is_free_batch(&knot, &knot, &beside, &copts).unwrap();
+        },
+    );
     run("distance_batch", poses.len(), &|| {
         distance_batch(&knot, &knot, &poses, &DistanceOptions::default()).unwrap();
     });
