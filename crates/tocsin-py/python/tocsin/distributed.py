@@ -2,7 +2,7 @@
 
 Install with ``pip install "tocsin[ray]"``; ``import tocsin`` never imports ray, only this
 module does. The batches: :func:`distance_batch`, :func:`collide_batch`,
-:func:`time_of_contact_batch`, a robot's :func:`paths_are_free` and
+:func:`time_of_contact_batch`, :func:`motion_is_free_batch`, a robot's :func:`paths_are_free` and
 :func:`check_configurations`, and :func:`first_contacts` of many worlds. Each batch is cut into
 chunks of rows; each chunk runs as a Ray task calling the local batch function, and the
 chunks' results are put back together
