@@ -14,6 +14,7 @@ EXPECT = {
     "real_mesh.py": "triangles",
     "robot_plate.py": "tocsin: contact",
     "ompl_planning.py": "every edge of the path is free: True",
+    "ompl_rigid.py": "every edge of the path is free: True",
     "many_bodies.py": "plate hits that 101 sampled poses never see",
 }
 
