@@ -78,6 +78,7 @@ bench-python: develop
 	$(VPY) bench/compare_fcl_ccd.py
 	$(VPY) bench/compare_fcl_ties.py
 	$(VPY) bench/compare_fcl_pathological.py
+	$(VPY) bench/ompl_rigid.py
 
 # MotionBenchMaker's Panda beside Pinocchio + coal (OMPL's 1% sampler) and HPP's exact path
 # validation (hpp-python); downloads the vamp-planner source distribution from the package
