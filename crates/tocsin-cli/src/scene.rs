@@ -83,6 +83,18 @@ struct MotionSpec {
     center: Option<[f64; 3]>,
 }
 
+/// The fields of a query on two moving meshes (`contact_time`, `motion_is_free`).
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Motions {
+    mesh1: String,
+    mesh2: String,
+    motion1: Option<MotionSpec>,
+    motion2: Option<MotionSpec>,
+    tolerance: Option<f64>,
+    max_iterations: Option<usize>,
+}
+
 #[derive(Deserialize)]
 #[serde(tag = "query", rename_all = "snake_case", deny_unknown_fields)]
 enum Query {
@@ -109,22 +121,8 @@ enum Query {
         pose2: Option<Vec<f64>>,
         threshold: f64,
     },
-    ContactTime {
-        mesh1: String,
-        mesh2: String,
-        motion1: Option<MotionSpec>,
-        motion2: Option<MotionSpec>,
-        tolerance: Option<f64>,
-        max_iterations: Option<usize>,
-    },
-    MotionIsFree {
-        mesh1: String,
-        mesh2: String,
-        motion1: Option<MotionSpec>,
-        motion2: Option<MotionSpec>,
-        tolerance: Option<f64>,
-        max_iterations: Option<usize>,
-    },
+    ContactTime(Motions),
+    MotionIsFree(Motions),
     Penetration {
         mesh1: String,
         mesh2: String,
@@ -254,34 +252,20 @@ pub fn run(path: &str) -> Result<Value, String> {
                     .map_err(|e| format!("query {i}: {e}"))?;
                 json!({ "within": w })
             }
-            Query::ContactTime {
-                mesh1,
-                mesh2,
-                motion1,
-                motion2,
-                tolerance,
-                max_iterations,
-            }
-            | Query::MotionIsFree {
-                mesh1,
-                mesh2,
-                motion1,
-                motion2,
-                tolerance,
-                max_iterations,
-            } => {
+            Query::ContactTime(m) | Query::MotionIsFree(m) => {
                 let opts = ContactOptions {
-                    tolerance: *tolerance,
-                    max_iterations: max_iterations
+                    tolerance: m.tolerance,
+                    max_iterations: m
+                        .max_iterations
                         .unwrap_or(ContactOptions::default().max_iterations),
                 };
                 let (m1, mo1, m2, mo2) = (
-                    get(mesh1, i)?,
-                    motion(motion1, &at("motion1"))?,
-                    get(mesh2, i)?,
-                    motion(motion2, &at("motion2"))?,
+                    get(&m.mesh1, i)?,
+                    motion(&m.motion1, &at("motion1"))?,
+                    get(&m.mesh2, i)?,
+                    motion(&m.motion2, &at("motion2"))?,
                 );
-                if matches!(q, Query::MotionIsFree { .. }) {
+                if matches!(q, Query::MotionIsFree(_)) {
                     let free = motion_is_free(m1, &mo1, m2, &mo2, &opts)
                         .map_err(|e| format!("query {i}: {e}"))?;
                     json!({ "free": free })

@@ -68,6 +68,13 @@ class FreeBatch(NamedTuple):
     is not free (``free`` is False), and a planner should treat it as blocked."""
 
 
+def _body2_motions(starts2: Optional[npt.ArrayLike], ends2: Optional[npt.ArrayLike]) -> tuple:
+    """Body 2's start and end poses of a motion batch: at the identity when both are omitted,
+    still at its start when only the end is."""
+    starts2 = np.eye(4) if starts2 is None else starts2
+    return starts2, (starts2 if ends2 is None else ends2)
+
+
 def distance_batch(
     mesh1: Mesh,
     poses1: npt.ArrayLike,
@@ -99,8 +106,7 @@ def time_of_contact_batch(
     """tocsin.time_of_contact for K motions of body 1 from starts1[k] to ends1[k] (and of body 2
     from starts2[k] to ends2[k]; body 2 stays at the identity when they are omitted). `kind` is
     'translation', 'interp' (about the body origin) or 'screw', for both bodies."""
-    starts2 = np.eye(4) if starts2 is None else starts2
-    ends2 = starts2 if ends2 is None else ends2
+    starts2, ends2 = _body2_motions(starts2, ends2)
     t, p1, p2, n, d, t1, t2, it, st, free = _core._time_of_contact_batch(
         mesh1, starts1, ends1, mesh2, starts2, ends2, kind, tolerance, max_iterations
     )
@@ -124,8 +130,7 @@ def motion_is_free_batch(
     'screw' for both. The planner's check of many rigid motions at once: no witnesses, and each
     row stops as soon as its answer is known. A row that reaches the iteration cap is undecided
     (``decided`` False) rather than an error."""
-    starts2 = np.eye(4) if starts2 is None else starts2
-    ends2 = starts2 if ends2 is None else ends2
+    starts2, ends2 = _body2_motions(starts2, ends2)
     free, decided = _core._motion_is_free_batch(
         mesh1, starts1, ends1, mesh2, starts2, ends2, kind, tolerance, max_iterations
     )

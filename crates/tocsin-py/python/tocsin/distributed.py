@@ -325,12 +325,8 @@ def time_of_contact_batch(
     max_retries: int = 3,
 ) -> _batch.ContactBatch:
     """``tocsin.time_of_contact_batch`` on the Ray cluster: identical results, in input order."""
-    starts2 = np.eye(4) if starts2 is None else starts2
-    ends2 = starts2 if ends2 is None else ends2
-    rows, fixed, count = _split({"starts1": starts1, "ends1": ends1, "starts2": starts2, "ends2": ends2})
-    fixed.update({"kind": kind, "tolerance": tolerance, "max_iterations": max_iterations})
-    return _run(_batch.time_of_contact_batch, {"mesh1": mesh1, "mesh2": mesh2}, rows, fixed,
-                count, chunk_size, address, progress, max_retries)
+    return _motions_run(_batch.time_of_contact_batch, (mesh1, mesh2), (starts1, ends1), (starts2, ends2),
+                        (kind, tolerance, max_iterations), (chunk_size, address, progress, max_retries))
 
 
 def motion_is_free_batch(
@@ -350,12 +346,18 @@ def motion_is_free_batch(
     max_retries: int = 3,
 ) -> _batch.FreeBatch:
     """``tocsin.motion_is_free_batch`` on the Ray cluster: identical results, in input order."""
-    starts2 = np.eye(4) if starts2 is None else starts2
-    ends2 = starts2 if ends2 is None else ends2
-    rows, fixed, count = _split({"starts1": starts1, "ends1": ends1, "starts2": starts2, "ends2": ends2})
-    fixed.update({"kind": kind, "tolerance": tolerance, "max_iterations": max_iterations})
-    return _run(_batch.motion_is_free_batch, {"mesh1": mesh1, "mesh2": mesh2}, rows, fixed,
-                count, chunk_size, address, progress, max_retries)
+    return _motions_run(_batch.motion_is_free_batch, (mesh1, mesh2), (starts1, ends1), (starts2, ends2),
+                        (kind, tolerance, max_iterations), (chunk_size, address, progress, max_retries))
+
+
+def _motions_run(fn, meshes, body1, body2, options, running):
+    """A motion batch (``fn``, the local one) run as chunks of its rows: body 1's and body 2's
+    (starts, ends), the motions' (kind, tolerance, max_iterations), and the run's (chunk_size,
+    address, progress, max_retries)."""
+    starts2, ends2 = _batch._body2_motions(*body2)
+    rows, fixed, count = _split({"starts1": body1[0], "ends1": body1[1], "starts2": starts2, "ends2": ends2})
+    fixed.update(dict(zip(("kind", "tolerance", "max_iterations"), options)))
+    return _run(fn, {"mesh1": meshes[0], "mesh2": meshes[1]}, rows, fixed, count, *running)
 
 
 def _robot_paths(robot, q0s, q1s, scene, tolerance, max_iterations):

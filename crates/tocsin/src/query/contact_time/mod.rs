@@ -47,7 +47,6 @@ mod traverse;
 use crate::error::{ContactError, OptionsError};
 use crate::math::Vec3;
 use crate::motion::Motion;
-use crate::query::collide::collide;
 use crate::query::distance::{
     distance_triangle_triangle, search_distance, DistanceCache, DistanceOptions,
 };
@@ -454,8 +453,9 @@ fn advance_core<const PROBING: bool>(
 ) -> Result<probe::Probed, ContactError> {
     use probe::Probed;
     let (delta, resolution) = (span.delta, span.resolution);
-    let (start1, start2) = (path1.pose_at(span.start), path2.pose_at(span.start));
-    if !span.start_free && collide(mesh1, &start1, mesh2, &start2) {
+    // A start known free is not tested (nor are its poses computed: a chain's takes a pass
+    // down its joints).
+    if !span.start_free && probe::collides_at(mesh1, path1, mesh2, path2, span.start) {
         return Ok(Probed::Advanced(Some(Ends {
             time: span.start,
             earlier: None,
