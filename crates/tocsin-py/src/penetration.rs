@@ -111,7 +111,9 @@ impl HausdorffResult {
 /// one-sided from mesh1 (max over points a of mesh1 of their distance to mesh2), or with
 /// symmetric=True the larger of both directions; exact within max_error (model units, > 0;
 /// default 1e-4 of the smaller bounding radius). Returns a HausdorffResult with the attained
-/// value, an upper bound and the witness points. The GIL is released.
+/// value, an upper bound and the witness points. A mesh against itself at another pose (a
+/// pose error), or against a copy with the same triangle list, is bounded by how far
+/// corresponding points moved and answered quickly. The GIL is released.
 #[pyfunction]
 #[pyo3(signature = (mesh1, pose1, mesh2, pose2, max_error=None, symmetric=false))]
 pub(crate) fn hausdorff_distance(

@@ -147,3 +147,77 @@ fn knot_against_a_moved_copy_within_the_bound_of_dense_sampling() {
         );
     }
 }
+
+#[test]
+fn copies_with_the_same_triangles_within_the_bound_of_dense_sampling() {
+    // B with A's triangle list: a separately built equal knot at another pose, and a copy whose
+    // vertices moved by up to 2% of the radius (its points correspond to A's, which bounds the
+    // search: `hausdorff.rs`, `Copies`); random soups with their own vertices moved, where
+    // degenerate and duplicated triangles keep their correspondence too.
+    use rand::Rng;
+    let knot = mesh::torus_knot(40, 5).unwrap();
+    let r = knot.bounding_radius();
+    let mut rng = common::rng(77);
+    let mut jitter = |m: &TriMesh, size: f64| {
+        let v: Vec<Vec3> = m
+            .vertices()
+            .iter()
+            .map(|p| {
+                *p + Vec3::new(
+                    rng.random_range(-1.0..1.0),
+                    rng.random_range(-1.0..1.0),
+                    rng.random_range(-1.0..1.0),
+                ) * size
+            })
+            .collect();
+        TriMesh::new(v, m.triangles().to_vec()).unwrap()
+    };
+    let mut cases = vec![
+        (
+            knot.clone(),
+            mesh::torus_knot(40, 5).unwrap(),
+            Pose::from_axis_angle(Vec3::new(0.2, 1.0, -0.4), 0.05, Vec3::new(-0.1, 0.2, 0.0)),
+        ),
+        (
+            knot.clone(),
+            jitter(&knot, 0.02 * r),
+            Pose::from_translation(Vec3::new(0.05, 0.02, 0.0)),
+        ),
+    ];
+    let mut soups = common::rng(78);
+    for _ in 0..4 {
+        let a = common::random_soup(&mut soups, 20, 1.0);
+        let b = jitter(&a, 0.05);
+        let pose = common::random_pose(&mut soups, 0.1);
+        cases.push((a, b, pose));
+    }
+    for (k, (a, b, pose)) in cases.iter().enumerate() {
+        let e = 1e-3 * a.bounding_radius();
+        for symmetric in [false, true] {
+            let h = hausdorff_distance(a, &Pose::IDENTITY, b, pose, e, symmetric).unwrap();
+            assert!(h.upper_bound - h.distance <= e * (1.0 + 1e-9), "case {k}");
+            let to = if h.from_first { *pose } else { Pose::IDENTITY };
+            let target = if h.from_first { b } else { a };
+            let d = brute_point_distance(h.point1, target, &to);
+            assert!(
+                (d - h.distance).abs() < 1e-9,
+                "case {k}: witness {d} vs {}",
+                h.distance
+            );
+            let mut dense = sampled(a, &Pose::IDENTITY, b, pose, 6);
+            if symmetric {
+                dense = dense.max(sampled(b, pose, a, &Pose::IDENTITY, 6));
+            }
+            assert!(
+                dense <= h.upper_bound + 1e-12,
+                "case {k}: sampled {dense} > {}",
+                h.upper_bound
+            );
+            assert!(
+                h.distance >= dense - e,
+                "case {k}: {} below sampling {dense}",
+                h.distance
+            );
+        }
+    }
+}

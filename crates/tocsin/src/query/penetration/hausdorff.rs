@@ -78,6 +78,20 @@
 //! moved copy 52.2M / 67.0M / 66.6M -> 47.6M / 59.3M / 62.7M, the turned one 7.63M / 10.05M /
 //! 10.54M -> 7.42M / 9.64M / 10.12M; knot34k against the moved copy at 1e-4 R 10M fewer; the
 //! same distances and bounds).
+//!
+//! Copies (thirtieth session). Where B has A's triangle list (the same mesh at another pose,
+//! which is how a pose error is measured, or a copy whose vertices moved: a deformation, a
+//! smoothing), each point of A has a corresponding point of B (the same barycentric
+//! combination of the same vertex indices), so its distance to B is at most how far that
+//! moved: a triangle's largest corner move, and for the same vertices a node's rigid move
+//! (`Copies`). A piece is bounded by the smaller of that and its other bounds, and settled by
+//! it before any exact distance. Against a moved copy every point is near the maximum and the
+//! other bounds only settle pieces near the error's size, while this one is the maximum's
+//! value wherever the move is a translation (`examples/profile_hausdorff.rs`, knot2.8k, one
+//! thread, symmetric, at 1e-2 / 1e-3 / 1e-4 R: moved by (0.3, 0.1, 0.05) 11.1 / 14.7 / 16.6 ->
+//! 0.09 / 0.17 / 2.5 ms; turned by 0.02 rad and moved by 5% R 11.3 / 15.6 / 15.9 -> 0.17 /
+//! 2.1 / 4.0 ms; turned by 0.5 rad, where the moves are far above the distances, unchanged
+//! within the noise). Meshes with other triangle lists (a simplified copy) do not have it.
 
 use std::collections::BinaryHeap;
 
@@ -102,6 +116,10 @@ thread_local! {
     static SKIPS: std::cell::Cell<bool> = const { std::cell::Cell::new(true) };
     /// Node probes skipped on this thread.
     static SKIPPED: std::cell::Cell<usize> = const { std::cell::Cell::new(0) };
+    /// Whether the correspondence bounds are used ([`Copies`]; the tests compare without).
+    static COPIES: std::cell::Cell<bool> = const { std::cell::Cell::new(true) };
+    /// Pieces settled or bounded by the correspondence bounds on this thread.
+    static COPY_USED: std::cell::Cell<usize> = const { std::cell::Cell::new(0) };
 }
 
 /// The Hausdorff distance found and where.
@@ -132,12 +150,94 @@ enum PieceKind {
     /// A node, with its probe's exact distance (model units; at the centroid of the triangle
     /// in the middle of its leaf range) where it was probed.
     Node(u32, Option<f64>),
-    Triangle([Vec3; 3]),
+    /// A (sub)triangle, with its bound by the corresponding points of B ([`Copies`];
+    /// infinite without).
+    Triangle([Vec3; 3], f64),
+}
+
+/// Where B holds, for every triangle of A, a triangle over the vertices of the same indices
+/// (the same triangle list: the same mesh at another pose, or a copy whose vertices moved): a
+/// point `x = sum l_k a_k` of a triangle of A then has the point `sum l_k b_k` of B, so
+/// `d(x, B) <= |sum l_k (a_k - b_k)| <= max_k |a_k - b_k|`, the largest move of its corners
+/// (a norm of an affine function is convex: its maximum over the triangle is at a corner).
+/// Where the vertices are the same too (the same mesh), every point `x` of A's frame moves by
+/// `(R - I) x + t` (`a_to_b = (R, t)`), so a node whose points lie within `rho` of its centre
+/// `c` moves by at most `|(R - I) c + t| + |R - I| rho` (the Frobenius norm, at least the
+/// operator norm), with no pass over its triangles.
+struct Copies<'a> {
+    /// A's triangles (vertex indices), which are B's too.
+    triangles: &'a [[u32; 3]],
+    /// B's vertices, B's frame.
+    b_vertices: &'a [Vec3],
+    /// With the same vertices: `R - I` of `a_to_b`, its Frobenius norm, and `t`.
+    rigid: Option<(crate::math::Mat3, f64, Vec3)>,
+}
+
+impl<'a> Copies<'a> {
+    /// The correspondence of A (`a`) onto B (`b`) placed by `a_to_b`, where B's triangle list
+    /// is A's (`None` otherwise).
+    fn new(a: &'a TriMesh, b: &'a TriMesh, a_to_b: &Pose) -> Option<Self> {
+        #[cfg(test)]
+        if !COPIES.with(|c| c.get()) {
+            return None;
+        }
+        if a.num_vertices() != b.num_vertices() || !same(a.triangles(), b.triangles()) {
+            return None;
+        }
+        let rigid = same(a.vertices(), b.vertices()).then(|| {
+            let m = a_to_b.rotation - crate::math::Mat3::IDENTITY;
+            let frobenius =
+                (m.x_axis.length_squared() + m.y_axis.length_squared() + m.z_axis.length_squared())
+                    .sqrt();
+            (m, frobenius, a_to_b.translation)
+        });
+        Some(Self {
+            triangles: a.triangles(),
+            b_vertices: b.vertices(),
+            rigid,
+        })
+    }
+
+    /// The bound over A's triangle `index` whose corners, in B's frame, are `t`: the largest
+    /// move of a corner, plus a rounding margin.
+    fn triangle(&self, index: usize, t: &[Vec3; 3]) -> f64 {
+        let ids = self.triangles[index];
+        (0..3).fold(0.0_f64, |m, k| {
+            let b = self.b_vertices[ids[k] as usize];
+            let d = (t[k] - b).length();
+            m.max(d + ROUNDING * (t[k].length() + b.length()))
+        })
+    }
+
+    /// The bound over a node of A (`rss` in A's frame) when B has A's vertices; infinite
+    /// otherwise.
+    fn node(&self, rss: &crate::bvh::Rss) -> f64 {
+        match self.rigid {
+            Some((m, frobenius, t)) => {
+                let c = rss.center;
+                let rho = rss.corner_radius();
+                let moved = m * c + t;
+                moved.length() + frobenius * rho + ROUNDING * (moved.length() + c.length() + rho)
+            }
+            None => f64::INFINITY,
+        }
+    }
+}
+
+/// Relative rounding margin of the correspondence bounds ([`Copies`]): a few units in the last
+/// place of the coordinates they subtract.
+const ROUNDING: f64 = 8.0 * f64::EPSILON;
+
+/// Whether two slices are equal (the same memory, or the same values).
+fn same<T: PartialEq>(a: &[T], b: &[T]) -> bool {
+    a.len() == b.len() && (std::ptr::eq(a.as_ptr(), b.as_ptr()) || a == b)
 }
 
 /// The one-sided search from A to B, both in B's frame (A's points mapped by `a_to_b`).
 struct OneSided<'a> {
     a: &'a Bvh,
+    /// B's triangles at the corresponding points of A's, where B is a copy of A ([`Copies`]).
+    copies: Option<Copies<'a>>,
     b: &'a Bvh,
     /// B itself, for its triangles' vertex neighbours.
     b_mesh: &'a TriMesh,
@@ -157,6 +257,19 @@ struct OneSided<'a> {
 }
 
 impl OneSided<'_> {
+    /// The bound of a node of A (its volume `rss`) by B's corresponding points ([`Copies`]);
+    /// infinite where there are none.
+    fn copy_bound(&self, rss: &crate::bvh::Rss) -> f64 {
+        self.copies.as_ref().map_or(f64::INFINITY, |c| c.node(rss))
+    }
+
+    /// Drops a piece whose correspondence bound `copy` is within the error of the lower bound.
+    fn settle_by_copy(&mut self, copy: f64) {
+        #[cfg(test)]
+        COPY_USED.with(|n| n.set(n.get() + 1));
+        self.dropped = self.dropped.max(copy);
+    }
+
     /// Keeps a piece worth splitting, or records the bound of one that is not.
     fn keep(&mut self, heap: &mut BinaryHeap<Piece>, p: Piece) {
         if p.upper > self.lower + self.max_error {
@@ -187,8 +300,19 @@ impl OneSided<'_> {
         if node.is_leaf() {
             let corners = self.a.leaf_triangles()[node.leaf_position() as usize];
             let t = corners.map(|p| self.a_to_b.transform_point(p));
+            let copy = self.copies.as_ref().map_or(f64::INFINITY, |c| {
+                c.triangle(self.a.triangle_index(node.leaf_position()), &t)
+            });
+            if copy <= self.lower + self.max_error {
+                #[cfg(test)]
+                COPY_USED.with(|n| n.set(n.get() + 1));
+                return Piece {
+                    upper: copy,
+                    item: (PieceKind::Triangle(t, copy), tried),
+                };
+            }
             let Some(d) = known else {
-                return self.triangle_piece(t, tried);
+                return self.triangle_piece(t, copy, tried);
             };
             // The probe's point is the same centroid placed the other way round: to rounding.
             let p = self
@@ -197,7 +321,7 @@ impl OneSided<'_> {
             let c = (t[0] + t[1] + t[2]) / 3.0;
             let dc = d + (p - c).length();
             let leaf = tried[0];
-            return self.bounded(t, dc, leaf, tried, &[leaf, tried[1]], true);
+            return self.bounded((t, copy), dc, leaf, tried, &[leaf, tried[1]], true);
         }
         let probe = node_probe(self.a, &self.a_to_b, self.b, i, tried);
         if probe.distance > self.lower {
@@ -205,8 +329,13 @@ impl OneSided<'_> {
             self.witness = (probe.point, probe.closest);
         }
         self.record(node.leaf_range().len(), probe.upper);
+        let copy = self.copy_bound(&node.rss);
+        #[cfg(test)]
+        if copy < probe.upper {
+            COPY_USED.with(|n| n.set(n.get() + 1));
+        }
         Piece {
-            upper: probe.upper,
+            upper: probe.upper.min(copy).max(probe.distance),
             item: (
                 PieceKind::Node(i, Some(probe.distance)),
                 [probe.leaf, tried[0]],
@@ -217,27 +346,35 @@ impl OneSided<'_> {
     /// A (sub)triangle's piece: the envelope of the parent's two triangles of B `tried` when
     /// that settles it; else one exact distance, at its centroid, and the smaller of the two
     /// bounds.
-    fn triangle_piece(&mut self, t: [Vec3; 3], tried: [u32; 2]) -> Piece {
+    fn triangle_piece(&mut self, t: [Vec3; 3], copy: f64, tried: [u32; 2]) -> Piece {
         // The parent's triangles alone may settle it, without the exact distance.
         let pre = envelope_bound(self.b, &t, &tried);
         if pre <= self.lower + self.max_error {
             return Piece {
                 upper: pre,
-                item: (PieceKind::Triangle(t), tried),
+                item: (PieceKind::Triangle(t, copy), tried),
             };
         }
         let c = (t[0] + t[1] + t[2]) / 3.0;
         let (dc, leaf) = self.sample(c, tried[0]);
-        self.bounded(t, dc, leaf, tried, &[leaf, tried[0], tried[1]], true)
+        self.bounded(
+            (t, copy),
+            dc,
+            leaf,
+            tried,
+            &[leaf, tried[0], tried[1]],
+            true,
+        )
     }
 
     /// A (sub)triangle's piece from its centroid's distance `dc` and nearest triangle `leaf`:
     /// the smaller of the Lipschitz bound and the envelope over `candidates`; with `ring` (a
     /// whole triangle of A), where that does not settle the piece, also [`ring_bound`] over
-    /// `leaf` and its vertex neighbours.
+    /// `leaf` and its vertex neighbours; never above `copy`, the bound by B's corresponding
+    /// points ([`Copies`]).
     fn bounded(
         &self,
-        t: [Vec3; 3],
+        (t, copy): ([Vec3; 3], f64),
         dc: f64,
         leaf: u32,
         tried: [u32; 2],
@@ -247,12 +384,17 @@ impl OneSided<'_> {
         let c = (t[0] + t[1] + t[2]) / 3.0;
         let r = t.iter().fold(0.0_f64, |m, p| m.max((*p - c).length()));
         let mut upper = (dc + r).min(envelope_bound(self.b, &t, candidates));
+        #[cfg(test)]
+        if copy < upper {
+            COPY_USED.with(|n| n.set(n.get() + 1));
+        }
+        upper = upper.min(copy);
         if ring && upper > self.lower + self.max_error {
             upper = upper.min(ring_bound(self.b_mesh, &t, leaf));
         }
         Piece {
             upper: upper.max(dc),
-            item: (PieceKind::Triangle(t), [leaf, tried[0]]),
+            item: (PieceKind::Triangle(t, copy), [leaf, tried[0]]),
         }
     }
 
@@ -314,10 +456,23 @@ impl OneSided<'_> {
                 PieceKind::Node(i, probed) => {
                     let nodes = self.a.nodes();
                     let parent = &nodes[i as usize];
+                    // The lower bound has risen since the piece was made.
+                    let copy = self.copy_bound(&parent.rss);
+                    if copy <= self.lower + self.max_error {
+                        self.settle_by_copy(copy);
+                        continue;
+                    }
                     let middle = parent.leaf_range().start + parent.leaf_range().len() / 2;
                     let (l, r) = parent.children(i);
                     for c in [l, r] {
                         let node = &nodes[c as usize];
+                        if !node.is_leaf() {
+                            let copy = self.copy_bound(&node.rss);
+                            if copy <= self.lower + self.max_error {
+                                self.settle_by_copy(copy);
+                                continue;
+                            }
+                        }
                         let pre = if node.is_leaf() {
                             f64::INFINITY
                         } else {
@@ -334,7 +489,7 @@ impl OneSided<'_> {
                             #[cfg(test)]
                             SKIPPED.with(|n| n.set(n.get() + 1));
                             Piece {
-                                upper: piece.upper.min(pre),
+                                upper: piece.upper.min(pre).min(self.copy_bound(&node.rss)),
                                 item: (PieceKind::Node(c, None), tried),
                             }
                         } else {
@@ -344,7 +499,11 @@ impl OneSided<'_> {
                         self.keep(&mut heap, p);
                     }
                 }
-                PieceKind::Triangle(t) => {
+                PieceKind::Triangle(t, copy) => {
+                    if copy <= self.lower + self.max_error {
+                        self.settle_by_copy(copy);
+                        continue;
+                    }
                     // The parts that the parent's triangles do not settle are sampled first,
                     // then bounded with each other's nearest triangles of B among the
                     // candidates too (spread over the parent, they tighten the envelope).
@@ -371,7 +530,7 @@ impl OneSided<'_> {
                                 n += 1;
                             }
                         }
-                        let p = self.bounded(sub, dc, leaf, tried, &candidates, false);
+                        let p = self.bounded((sub, copy), dc, leaf, tried, &candidates, false);
                         self.keep(&mut heap, p);
                     }
                 }
@@ -388,7 +547,9 @@ fn size_class(triangles: usize) -> usize {
 
 /// The Hausdorff distance from `mesh1` to `mesh2` (one-sided, `max over a in mesh1 of
 /// d(a, mesh2)`), or with `symmetric` the larger of both directions, within `max_error`
-/// (model units, > 0; module docs).
+/// (model units, > 0; module docs). A mesh against itself at another pose, or against a
+/// copy with the same triangle list, is bounded by how far corresponding points moved, which
+/// makes a pose error quick to measure.
 ///
 /// # Errors
 /// [`OptionsError`] when `max_error` is not positive and finite.
@@ -408,12 +569,14 @@ pub fn hausdorff_distance(
         });
     }
     let one = |a: &TriMesh, pa: &Pose, b: &TriMesh, pb: &Pose, from_first: bool| {
+        let a_to_b = pb.inv_mul(pa);
         let mut s = OneSided {
             a: a.bvh(),
+            copies: Copies::new(a, b, &a_to_b),
             b: b.bvh(),
             b_mesh: b,
             max_error,
-            a_to_b: pb.inv_mul(pa),
+            a_to_b,
             lower: 0.0,
             witness: (Vec3::ZERO, Vec3::ZERO),
             dropped: 0.0,
@@ -473,11 +636,15 @@ mod tests {
             for rel in [1e-2, 1e-3] {
                 let e = rel * r;
                 let run = |skip: bool| {
+                    // The correspondence bounds settle the moved copy before any skipping:
+                    // off, it stands for a perturbed copy with other triangles.
+                    COPIES.with(|c| c.set(false));
                     SKIPS.with(|c| c.set(skip));
                     SKIPPED.with(|c| c.set(0));
                     let h = hausdorff_distance(&m, &Pose::IDENTITY, &m, pose, e, false)
                         .expect("hausdorff");
                     SKIPS.with(|c| c.set(true));
+                    COPIES.with(|c| c.set(true));
                     (h, SKIPPED.with(|c| c.get()))
                 };
                 let ((with, skipped), (without, none)) = (run(true), run(false));
@@ -493,6 +660,119 @@ mod tests {
                         <= with.upper_bound.min(without.upper_bound) * (1.0 + 1e-12),
                     "pose {k}, error {rel}: {with:?} against {without:?}"
                 );
+            }
+        }
+    }
+
+    /// The correspondence bounds change no answer beyond the error bound, and they are what
+    /// ends the search against a copy: the same knot moved, the same knot moved and turned a
+    /// little, a separately built equal knot (the same values in other memory), and a copy with
+    /// the same triangles whose vertices moved by up to 1% of the radius; one-sided and
+    /// symmetric, at errors of 1e-2 and 1e-3 of the radius, with and without the bounds: each
+    /// interval `[distance, upper_bound]` within the error, the two overlapping, and pieces
+    /// settled or bounded by them. A knot against a different knot has no correspondence.
+    #[test]
+    fn copy_bounds_change_no_answer() {
+        let m = mesh::torus_knot(100, 8).expect("knot");
+        let r = m.bounding_radius();
+        let rebuilt = mesh::torus_knot(100, 8).expect("knot");
+        // Seeded offsets of every vertex, up to 1% of the radius per coordinate.
+        let mut state = 0x9e37_79b9_7f4a_7c15_u64;
+        let mut next = || {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        let jittered: Vec<Vec3> = m
+            .vertices()
+            .iter()
+            .map(|v| *v + Vec3::new(next(), next(), next()) * (0.01 * r))
+            .collect();
+        let perturbed = TriMesh::new(jittered, m.triangles().to_vec()).expect("copy");
+        let moved = Pose::from_translation(Vec3::new(0.3, 0.1, 0.05));
+        let turned = Pose::from_axis_angle(
+            Vec3::new(0.3, 1.0, -0.2).normalize(),
+            0.02,
+            Vec3::new(0.6, -0.3, 0.74).normalize() * (0.05 * r),
+        );
+        let cases: [(&TriMesh, Pose); 4] = [
+            (&m, moved),
+            (&m, turned),
+            (&rebuilt, moved),
+            (
+                &perturbed,
+                Pose::from_translation(Vec3::new(0.05, 0.0, 0.02)),
+            ),
+        ];
+        for (k, (b, pose)) in cases.iter().enumerate() {
+            for rel in [1e-2, 1e-3] {
+                for symmetric in [false, true] {
+                    let e = rel * r;
+                    let run = |copies: bool| {
+                        COPIES.with(|c| c.set(copies));
+                        COPY_USED.with(|c| c.set(0));
+                        let h = hausdorff_distance(&m, &Pose::IDENTITY, b, pose, e, symmetric)
+                            .expect("hausdorff");
+                        COPIES.with(|c| c.set(true));
+                        (h, COPY_USED.with(|c| c.get()))
+                    };
+                    let ((with, settled), (without, none)) = (run(true), run(false));
+                    assert_eq!(none, 0);
+                    // A symmetric search runs its directions on the pool's threads, whose
+                    // counts this thread does not see.
+                    assert!(
+                        symmetric || settled > 0,
+                        "case {k}, error {rel}: the copy bounded nothing"
+                    );
+                    for h in [&with, &without] {
+                        assert!(h.upper_bound - h.distance <= e * (1.0 + 1e-9), "{h:?}");
+                    }
+                    assert!(
+                        with.distance.max(without.distance)
+                            <= with.upper_bound.min(without.upper_bound) * (1.0 + 1e-12),
+                        "case {k}, error {rel}: {with:?} against {without:?}"
+                    );
+                }
+            }
+            // The bound exists for every case, and not for a different knot.
+            let to_b = pose.inv_mul(&Pose::IDENTITY);
+            assert!(Copies::new(&m, b, &to_b).is_some(), "case {k}");
+            assert_eq!(
+                Copies::new(&m, b, &to_b).is_some_and(|c| c.rigid.is_some()),
+                k < 3,
+                "case {k}"
+            );
+        }
+        let other = mesh::torus_knot(101, 8).expect("knot");
+        assert!(Copies::new(&m, &other, &moved).is_none());
+    }
+
+    /// The bounds hold at every point: the largest move of a triangle's corners bounds the
+    /// distance of seeded points of it to the copy, and a node's rigid bound every corner
+    /// of its triangles' moves.
+    #[test]
+    fn copy_bounds_hold_pointwise() {
+        let m = mesh::torus_knot(40, 6).expect("knot");
+        let pose = Pose::from_axis_angle(
+            Vec3::new(0.2, 1.0, -0.4).normalize(),
+            0.3,
+            Vec3::new(-0.1, 0.2, 0.0),
+        );
+        let a_to_b = pose;
+        let copies = Copies::new(&m, &m, &a_to_b).expect("the same mesh corresponds");
+        let bvh = m.bvh();
+        for (i, node) in bvh.nodes().iter().enumerate() {
+            let bound = copies.node(&node.rss);
+            for leaf in node.leaf_range() {
+                let t = bvh.leaf_triangles()[leaf].map(|p| a_to_b.transform_point(p));
+                let tri = copies.triangle(bvh.triangle_index(leaf as u32), &t);
+                assert!(tri <= bound * (1.0 + 1e-12), "node {i}: {tri} > {bound}");
+                for (u, v) in [(0.2, 0.3), (0.6, 0.1), (1.0 / 3.0, 1.0 / 3.0)] {
+                    let p = t[0] + (t[1] - t[0]) * u + (t[2] - t[0]) * v;
+                    let (d, _, _) = crate::query::penetration::surface::point_to_mesh(bvh, p, 0);
+                    assert!(d <= tri, "leaf {leaf}: {d} > {tri}");
+                }
             }
         }
     }
