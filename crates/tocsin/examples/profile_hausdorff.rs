@@ -2,7 +2,8 @@
 //! benchmark's hard case (the distance is nearly the same over most of the surface), timed a
 //! few times for profiling: `profile_hausdorff [n_u n_v] [relative error] [repeats]
 //! [pointwise]`; with `pointwise`, the pointwise penetration depth of the same pair instead
-//! (the copy overlaps the knot); `TURN=angle` turns the copy instead of only moving it.
+//! (the copy overlaps the knot); `TURN=angle` turns the copy instead of only moving it;
+//! `MESH=file.obj` that mesh instead of the knot (`n_u n_v` ignored).
 use tocsin::{hausdorff_distance, mesh, pointwise_penetration, Pose, Vec3};
 fn main() {
     let args: Vec<String> = std::env::args().collect();
@@ -10,7 +11,11 @@ fn main() {
     let n_v: usize = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(8);
     let rel: f64 = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(1e-3);
     let repeats: usize = args.get(4).and_then(|s| s.parse().ok()).unwrap_or(5);
-    let Ok(m) = mesh::torus_knot(n_u, n_v) else {
+    let m = match std::env::var("MESH") {
+        Ok(path) => tocsin::TriMesh::load(path),
+        Err(_) => mesh::torus_knot(n_u, n_v),
+    };
+    let Ok(m) = m else {
         return;
     };
     // `TURN=angle`: the copy turned by that angle (radians) about a fixed axis and moved by 5%
