@@ -310,7 +310,9 @@ impl PointwiseResult {
 /// within max_error (default 1e-4 of the smaller bounding radius), with the two points.
 /// Depth 0 when neither surface enters the other. Exact inside/outside for closed meshes; on
 /// soups with holes a piece not crossing the other surface is classified at a point joined to it
-/// without crossing that surface (its centroid or a neighbour's).
+/// without crossing that surface (its centroid or a neighbour's). Against itself at another
+/// pose, or a copy with the same triangle list, pieces are also bounded by how far their
+/// corresponding points moved.
 #[pyfunction]
 #[pyo3(signature = (mesh1, pose1, mesh2, pose2, max_error=None))]
 pub(crate) fn pointwise_penetration(

@@ -79,19 +79,24 @@
 //! 10.54M -> 7.42M / 9.64M / 10.12M; knot34k against the moved copy at 1e-4 R 10M fewer; the
 //! same distances and bounds).
 //!
-//! Copies (thirtieth session). Where B has A's triangle list (the same mesh at another pose,
-//! which is how a pose error is measured, or a copy whose vertices moved: a deformation, a
-//! smoothing), each point of A has a corresponding point of B (the same barycentric
-//! combination of the same vertex indices), so its distance to B is at most how far that
-//! moved: a triangle's largest corner move, and for the same vertices a node's rigid move
-//! (`Copies`). A piece is bounded by the smaller of that and its other bounds, and settled by
-//! it before any exact distance. Against a moved copy every point is near the maximum and the
-//! other bounds only settle pieces near the error's size, while this one is the maximum's
-//! value wherever the move is a translation (`examples/profile_hausdorff.rs`, knot2.8k, one
-//! thread, symmetric, at 1e-2 / 1e-3 / 1e-4 R: moved by (0.3, 0.1, 0.05) 11.1 / 14.7 / 16.6 ->
-//! 0.09 / 0.17 / 2.5 ms; turned by 0.02 rad and moved by 5% R 11.3 / 15.6 / 15.9 -> 0.17 /
-//! 2.1 / 4.0 ms; turned by 0.5 rad, where the moves are far above the distances, unchanged
-//! within the noise). Meshes with other triangle lists (a simplified copy) do not have it.
+//! Copies (thirtieth session). Where B has A's triangle list (the same mesh at another pose, which
+//! is how a pose error is measured, or a copy whose vertices moved: a deformation, a smoothing),
+//! each point of A has a corresponding point of B (the same barycentric combination of the same
+//! vertex indices), so its distance to B is at most how far that moved: a triangle's largest
+//! corner move, and for the same vertices a node's rigid move (`surface::Copies`, shared with the
+//! pointwise depth). A piece is bounded by the smaller of that and its other bounds, and settled
+//! by it before any exact distance. Against a moved copy every point is near the maximum and the
+//! other bounds only settle pieces near the error's size, while this one is the maximum's value
+//! wherever the move is a translation (`examples/profile_hausdorff.rs`, knot2.8k, one thread,
+//! symmetric, instructions at 1e-2 / 1e-3 / 1e-4 R: moved by (0.3, 0.1, 0.05) 41.6M / 50.9M /
+//! 57.8M -> 0.27M / 0.71M / 10.6M; turned by 0.02 rad and moved by 5% R 39.1M / 49.7M / 53.5M ->
+//! 0.54M / 9.6M / 15.4M; turned by 0.5 rad 5.66M / 9.37M / 9.88M -> 4.82M / 7.88M / 8.41M). The
+//! bound takes the place of the others' ranking where it is smaller: on the bunny moved by the
+//! same (a fifth of its radius: most of its surface lies well below the move, which bounds only
+//! the pieces near the maximum and ties the others' ranking) 9.26M / 12.2M / 13.4M -> 0.72M /
+//! 13.3M / 14.9M, the finer errors 9 and 11% dearer; ranking nodes by their other bounds instead
+//! made the bunny 9.1M / 13.7M at the finer errors but the knot 0.91M / 24.0M
+//! (docs/BENCHMARKS.md). Meshes with other triangle lists (a simplified copy) do not have it.
 
 use std::collections::BinaryHeap;
 
@@ -100,7 +105,7 @@ use crate::error::OptionsError;
 use crate::math::{Pose, Vec3};
 use crate::query::penetration::surface::{
     corner_bound, envelope_bound, node_probe, point_to_mesh, rectangle_corners, ring_bound, split4,
-    Ranked,
+    Copies, Ranked,
 };
 use crate::TriMesh;
 
@@ -116,8 +121,6 @@ thread_local! {
     static SKIPS: std::cell::Cell<bool> = const { std::cell::Cell::new(true) };
     /// Node probes skipped on this thread.
     static SKIPPED: std::cell::Cell<usize> = const { std::cell::Cell::new(0) };
-    /// Whether the correspondence bounds are used ([`Copies`]; the tests compare without).
-    static COPIES: std::cell::Cell<bool> = const { std::cell::Cell::new(true) };
     /// Pieces settled or bounded by the correspondence bounds on this thread.
     static COPY_USED: std::cell::Cell<usize> = const { std::cell::Cell::new(0) };
 }
@@ -153,84 +156,6 @@ enum PieceKind {
     /// A (sub)triangle, with its bound by the corresponding points of B ([`Copies`];
     /// infinite without).
     Triangle([Vec3; 3], f64),
-}
-
-/// Where B holds, for every triangle of A, a triangle over the vertices of the same indices
-/// (the same triangle list: the same mesh at another pose, or a copy whose vertices moved): a
-/// point `x = sum l_k a_k` of a triangle of A then has the point `sum l_k b_k` of B, so
-/// `d(x, B) <= |sum l_k (a_k - b_k)| <= max_k |a_k - b_k|`, the largest move of its corners
-/// (a norm of an affine function is convex: its maximum over the triangle is at a corner).
-/// Where the vertices are the same too (the same mesh), every point `x` of A's frame moves by
-/// `(R - I) x + t` (`a_to_b = (R, t)`), so a node whose points lie within `rho` of its centre
-/// `c` moves by at most `|(R - I) c + t| + |R - I| rho` (the Frobenius norm, at least the
-/// operator norm), with no pass over its triangles.
-struct Copies<'a> {
-    /// A's triangles (vertex indices), which are B's too.
-    triangles: &'a [[u32; 3]],
-    /// B's vertices, B's frame.
-    b_vertices: &'a [Vec3],
-    /// With the same vertices: `R - I` of `a_to_b`, its Frobenius norm, and `t`.
-    rigid: Option<(crate::math::Mat3, f64, Vec3)>,
-}
-
-impl<'a> Copies<'a> {
-    /// The correspondence of A (`a`) onto B (`b`) placed by `a_to_b`, where B's triangle list
-    /// is A's (`None` otherwise).
-    fn new(a: &'a TriMesh, b: &'a TriMesh, a_to_b: &Pose) -> Option<Self> {
-        #[cfg(test)]
-        if !COPIES.with(|c| c.get()) {
-            return None;
-        }
-        if a.num_vertices() != b.num_vertices() || !same(a.triangles(), b.triangles()) {
-            return None;
-        }
-        let rigid = same(a.vertices(), b.vertices()).then(|| {
-            let m = a_to_b.rotation - crate::math::Mat3::IDENTITY;
-            let frobenius =
-                (m.x_axis.length_squared() + m.y_axis.length_squared() + m.z_axis.length_squared())
-                    .sqrt();
-            (m, frobenius, a_to_b.translation)
-        });
-        Some(Self {
-            triangles: a.triangles(),
-            b_vertices: b.vertices(),
-            rigid,
-        })
-    }
-
-    /// The bound over A's triangle `index` whose corners, in B's frame, are `t`: the largest
-    /// move of a corner, plus a rounding margin.
-    fn triangle(&self, index: usize, t: &[Vec3; 3]) -> f64 {
-        let ids = self.triangles[index];
-        (0..3).fold(0.0_f64, |m, k| {
-            let b = self.b_vertices[ids[k] as usize];
-            let d = (t[k] - b).length();
-            m.max(d + ROUNDING * (t[k].length() + b.length()))
-        })
-    }
-
-    /// The bound over a node of A (`rss` in A's frame) when B has A's vertices; infinite
-    /// otherwise.
-    fn node(&self, rss: &crate::bvh::Rss) -> f64 {
-        match self.rigid {
-            Some((m, frobenius, t)) => {
-                let c = rss.center;
-                let rho = rss.corner_radius();
-                let moved = m * c + t;
-                moved.length() + frobenius * rho + ROUNDING * (moved.length() + c.length() + rho)
-            }
-            None => f64::INFINITY,
-        }
-    }
-}
-
-/// Relative rounding margin of the correspondence bounds ([`Copies`]): a few units in the last
-/// place of the coordinates they subtract.
-const ROUNDING: f64 = 8.0 * f64::EPSILON;
-
-/// Whether two slices are equal (the same memory, or the same values).
-fn same<T: PartialEq>(a: &[T], b: &[T]) -> bool {
-    a.len() == b.len() && (std::ptr::eq(a.as_ptr(), b.as_ptr()) || a == b)
 }
 
 /// The one-sided search from A to B, both in B's frame (A's points mapped by `a_to_b`).
@@ -638,13 +563,13 @@ mod tests {
                 let run = |skip: bool| {
                     // The correspondence bounds settle the moved copy before any skipping:
                     // off, it stands for a perturbed copy with other triangles.
-                    COPIES.with(|c| c.set(false));
+                    crate::query::penetration::surface::COPIES.with(|c| c.set(false));
                     SKIPS.with(|c| c.set(skip));
                     SKIPPED.with(|c| c.set(0));
                     let h = hausdorff_distance(&m, &Pose::IDENTITY, &m, pose, e, false)
                         .expect("hausdorff");
                     SKIPS.with(|c| c.set(true));
-                    COPIES.with(|c| c.set(true));
+                    crate::query::penetration::surface::COPIES.with(|c| c.set(true));
                     (h, SKIPPED.with(|c| c.get()))
                 };
                 let ((with, skipped), (without, none)) = (run(true), run(false));
@@ -709,20 +634,22 @@ mod tests {
             for rel in [1e-2, 1e-3] {
                 for symmetric in [false, true] {
                     let e = rel * r;
+                    // On one thread: the switch and the count are per thread, and a
+                    // symmetric search joins its two directions.
                     let run = |copies: bool| {
-                        COPIES.with(|c| c.set(copies));
-                        COPY_USED.with(|c| c.set(0));
-                        let h = hausdorff_distance(&m, &Pose::IDENTITY, b, pose, e, symmetric)
-                            .expect("hausdorff");
-                        COPIES.with(|c| c.set(true));
-                        (h, COPY_USED.with(|c| c.get()))
+                        crate::query::penetration::surface::tests::one_thread().install(|| {
+                            crate::query::penetration::surface::COPIES.with(|c| c.set(copies));
+                            COPY_USED.with(|c| c.set(0));
+                            let h = hausdorff_distance(&m, &Pose::IDENTITY, b, pose, e, symmetric)
+                                .expect("hausdorff");
+                            crate::query::penetration::surface::COPIES.with(|c| c.set(true));
+                            (h, COPY_USED.with(|c| c.get()))
+                        })
                     };
                     let ((with, settled), (without, none)) = (run(true), run(false));
                     assert_eq!(none, 0);
-                    // A symmetric search runs its directions on the pool's threads, whose
-                    // counts this thread does not see.
                     assert!(
-                        symmetric || settled > 0,
+                        settled > 0,
                         "case {k}, error {rel}: the copy bounded nothing"
                     );
                     for h in [&with, &without] {

@@ -39,6 +39,14 @@
 //! split are probed first, then bounded with each other's nearest triangles among the
 //! candidates too.
 //!
+//! Where B has A's triangle list (the same mesh at another pose, or a copy whose vertices
+//! moved), every piece is also bounded by how far its points' corresponding points of B are
+//! (`surface::Copies`, as in the Hausdorff search; thirtieth session). Against the copy moved by
+//! (0.3, 0.1, 0.05) (knot2.8k, one thread, instructions at 1e-2 / 1e-3 / 1e-4 R): 44.4M / 59.8M
+//! / 82.2M -> 4.0M / 9.6M / 71.5M; at 1e-4 R the bound settles pieces only once an inside
+//! point within the error of the maximum is found, and the classification of the surface
+//! near the other is most of the work.
+//!
 //! On the benchmark's shallow penetrations this took 28-39% of the instructions off, then
 //! the node walk's test became a bounded ball query (stops at the first triangle within the
 //! ball) and a piece's intersection test and centroid distance one traversal: 25-37% more
@@ -55,7 +63,7 @@ use crate::error::OptionsError;
 use crate::math::{Pose, Vec3};
 use crate::query::penetration::surface::{
     ball_meets_mesh, corner_bound, envelope_bound, node_probe, rectangle_corners, ring_bound,
-    split4, triangle_probe, Ranked,
+    split4, triangle_probe, Copies, Ranked,
 };
 use crate::query::penetration::winding::inside;
 use crate::TriMesh;
@@ -85,8 +93,9 @@ enum PieceKind {
     /// A small node of A's hierarchy, or a leaf, whose ball meets B's surface, bounded whole
     /// (a leaf is probed when popped).
     Near(u32),
-    /// A (sub)triangle, and whether it is known to lie inside B without meeting its surface.
-    Triangle([Vec3; 3], bool),
+    /// A (sub)triangle, whether it is known to lie inside B without meeting its surface, and
+    /// its bound by B's corresponding points ([`Copies`]; infinite without).
+    Triangle([Vec3; 3], bool, f64),
 }
 
 /// A node of A with at most this many triangles whose ball meets B's surface is bounded whole
@@ -99,6 +108,8 @@ const KNOWN: usize = 32;
 /// One direction: the parts of A inside B, measured against B's surface (all in B's frame).
 struct Inside<'a> {
     b_mesh: &'a TriMesh,
+    /// B's points corresponding to A's, where B has A's triangle list ([`Copies`]).
+    copies: Option<Copies<'a>>,
     lower: f64,
     /// The error bound the search runs to: a whole triangle's bound that is not within it of
     /// `lower` also tries [`ring_bound`], as in the Hausdorff search (knot2.8k against its copy
@@ -143,6 +154,7 @@ impl<'a> Inside<'a> {
     fn new(b_mesh: &'a TriMesh, max_error: f64) -> Self {
         Self {
             b_mesh,
+            copies: None,
             lower: 0.0,
             max_error,
             witness: (Vec3::ZERO, Vec3::ZERO),
@@ -152,6 +164,22 @@ impl<'a> Inside<'a> {
             next: 0,
             corners: vec![([0; 3], 0); CORNERS],
         }
+    }
+
+    /// The bound of node `node` of A by B's corresponding points ([`Copies::node`]; infinite
+    /// without).
+    fn node_copy(&self, node: &Node) -> f64 {
+        self.copies
+            .as_ref()
+            .map_or(f64::INFINITY, |c| c.node(&node.rss))
+    }
+
+    /// The bound of A's leaf `node`, placed at `t` in B's frame, by B's corresponding points
+    /// ([`Copies::triangle`]; infinite without).
+    fn leaf_copy(&self, a: &TriMesh, node: &Node, t: &[Vec3; 3]) -> f64 {
+        self.copies.as_ref().map_or(f64::INFINITY, |c| {
+            c.triangle(a.bvh().triangle_index(node.leaf_position()), t)
+        })
     }
 
     /// The side of a piece that misses B's surface, if one of its corners lies on a piece
@@ -223,15 +251,15 @@ impl<'a> Inside<'a> {
     /// share a corner, so any two of them that miss the surface form a connected set missing it).
     fn piece(
         &mut self,
-        t: [Vec3; 3],
+        (t, copy): ([Vec3; 3], f64),
         tried: [u32; 2],
         clear: bool,
         siblings: &mut Option<bool>,
     ) -> Option<Piece> {
-        let (mut piece, dc) = self.probed(t, tried, clear, siblings)?;
+        let (mut piece, dc) = self.probed((t, copy), tried, clear, siblings)?;
         self.bound(&mut piece, dc, &tried);
         if piece.upper > self.lower + self.max_error {
-            if let (PieceKind::Triangle(t, _), [leaf, _]) = &piece.item {
+            if let (PieceKind::Triangle(t, _, _), [leaf, _]) = &piece.item {
                 piece.upper = piece.upper.min(ring_bound(self.b_mesh, t, *leaf)).max(dc);
             }
         }
@@ -242,7 +270,7 @@ impl<'a> Inside<'a> {
     /// its centroid's distance to B.
     fn probed(
         &mut self,
-        t: [Vec3; 3],
+        (t, copy): ([Vec3; 3], f64),
         tried: [u32; 2],
         clear: bool,
         siblings: &mut Option<bool>,
@@ -277,8 +305,8 @@ impl<'a> Inside<'a> {
         }
         let near = meets.unwrap_or(leaf);
         let piece = Piece {
-            upper: dc + r,
-            item: (PieceKind::Triangle(t, meets.is_none()), [leaf, near]),
+            upper: (dc + r).min(copy).max(dc),
+            item: (PieceKind::Triangle(t, meets.is_none(), copy), [leaf, near]),
         };
         Some((piece, dc))
     }
@@ -287,7 +315,7 @@ impl<'a> Inside<'a> {
     /// candidate triangles' corner distances): its own two triangles of B and `more`. `dc`: its
     /// centroid's distance (the bound is never below it).
     fn bound(&self, piece: &mut Piece, dc: f64, more: &[u32]) {
-        if let (PieceKind::Triangle(t, _), [leaf, near]) = &piece.item {
+        if let (PieceKind::Triangle(t, _, _), [leaf, near]) = &piece.item {
             let mut candidates = [*near; 6];
             candidates[1] = *leaf;
             for (k, &m) in more.iter().take(4).enumerate() {
@@ -302,11 +330,16 @@ impl<'a> Inside<'a> {
     /// The four parts of a triangle piece: probed first, then bounded with each other's
     /// nearest triangles of B among the candidates too (spread over the parent, they tighten
     /// the envelope: 2 to 14% fewer instructions than each part's own candidates alone).
-    fn split(&mut self, t: [Vec3; 3], tried: [u32; 2], clear: bool) -> [Option<Piece>; 4] {
+    fn split(
+        &mut self,
+        (t, copy): ([Vec3; 3], f64),
+        tried: [u32; 2],
+        clear: bool,
+    ) -> [Option<Piece>; 4] {
         let mut siblings = None;
         let mut parts = [None, None, None, None];
         for (k, sub) in split4(t).into_iter().enumerate() {
-            parts[k] = self.probed(sub, tried, clear, &mut siblings);
+            parts[k] = self.probed((sub, copy), tried, clear, &mut siblings);
         }
         let nearest: [Option<u32>; 4] =
             std::array::from_fn(|k| parts[k].as_ref().map(|(p, _)| p.item.1[0]));
@@ -336,8 +369,9 @@ impl<'a> Inside<'a> {
             self.lower = probe.distance;
             self.witness = (probe.point, probe.closest);
         }
+        let copy = self.node_copy(&a.bvh().nodes()[i as usize]);
         Piece {
-            upper: probe.upper.max(probe.distance),
+            upper: probe.upper.min(copy).max(probe.distance),
             item: (PieceKind::Inside(i), [probe.leaf, tried[0]]),
         }
     }
@@ -355,7 +389,8 @@ impl<'a> Inside<'a> {
         [l, r].map(|c| {
             let node = &nodes[c as usize];
             if node.is_leaf() {
-                self.piece(placed_leaf(a, a_to_b, node), tried, true, &mut None)
+                let t = placed_leaf(a, a_to_b, node);
+                self.piece((t, self.leaf_copy(a, node, &t)), tried, true, &mut None)
             } else {
                 Some(self.inside_node(a, a_to_b, c, tried))
             }
@@ -375,7 +410,8 @@ impl<'a> Inside<'a> {
         let node = &a.bvh().nodes()[i as usize];
         if node.is_leaf() {
             let t = placed_leaf(a, a_to_b, node);
-            return [self.piece(t, tried, false, &mut None), None];
+            let copy = self.leaf_copy(a, node, &t);
+            return [self.piece((t, copy), tried, false, &mut None), None];
         }
         self.warm = tried[0];
         let (l, r) = node.children(i);
@@ -422,8 +458,9 @@ impl<'a> Inside<'a> {
         };
         let tried = [self.warm; 2];
         if let Some(t) = leaf {
+            let copy = self.leaf_copy(a, node, &t);
             if clear {
-                return self.piece(t, tried, true, &mut None);
+                return self.piece((t, copy), tried, true, &mut None);
             }
             // Its ball meets B's surface, so every point of it is within twice the ball's
             // radius of that surface, and within its farthest corner's distance of the
@@ -431,11 +468,9 @@ impl<'a> Inside<'a> {
             // that bound, it is only probed if the bound is still above the lower bound when
             // it comes up: at 20% of the radius most such triangles never are (knot2.8k -23%
             // instructions, 1-4% more at 1%, where nearly all are).
-            let upper = (2.0 * node.rss.corner_radius()).min(corner_bound(
-                self.b_mesh.bvh(),
-                &t,
-                &tried[..1],
-            ));
+            let upper = (2.0 * node.rss.corner_radius())
+                .min(corner_bound(self.b_mesh.bvh(), &t, &tried[..1]))
+                .min(copy);
             return Some(Piece {
                 upper,
                 item: (PieceKind::Near(i), tried),
@@ -452,7 +487,8 @@ impl<'a> Inside<'a> {
             let rss = &node.rss;
             let corners = rectangle_corners(rss, a_to_b);
             let upper = (2.0 * rss.corner_radius())
-                .min(corner_bound(self.b_mesh.bvh(), &corners, &tried[..1]) + rss.radius);
+                .min(corner_bound(self.b_mesh.bvh(), &corners, &tried[..1]) + rss.radius)
+                .min(self.node_copy(node));
             return Some(Piece {
                 upper,
                 item: (PieceKind::Near(i), tried),
@@ -493,8 +529,8 @@ impl<'a> Inside<'a> {
                         self.keep(&mut heap, p);
                     }
                 }
-                (PieceKind::Triangle(t, clear), tried) => {
-                    for p in self.split(t, tried, clear).into_iter().flatten() {
+                (PieceKind::Triangle(t, clear, copy), tried) => {
+                    for p in self.split((t, copy), tried, clear).into_iter().flatten() {
                         self.keep(&mut heap, p);
                     }
                 }
@@ -527,8 +563,10 @@ pub fn pointwise_penetration(
         });
     }
     let one = |a: &TriMesh, pa: &Pose, b: &TriMesh, pb: &Pose| {
+        let a_to_b = pb.inv_mul(pa);
         let mut s = Inside::new(b, max_error);
-        let upper = s.run(a, &pb.inv_mul(pa));
+        s.copies = Copies::new(a, b, &a_to_b);
+        let upper = s.run(a, &a_to_b);
         (
             s.lower,
             upper.max(s.lower),
@@ -595,6 +633,7 @@ mod tests {
             let a_to_b = pose2.inv_mul(&Pose::IDENTITY);
             // No error: every whole triangle above the lower bound tries `ring_bound` too.
             let mut s = Inside::new(b, 0.0);
+            s.copies = Copies::new(a, b, &a_to_b);
             let mut pieces = Vec::new();
             let mut stack = vec![0u32];
             while let Some(i) = stack.pop() {
@@ -610,7 +649,7 @@ mod tests {
                             barycentric_grid(&tris[k].map(|q| a_to_b.transform_point(q)), 4)
                         })
                         .collect(),
-                    PieceKind::Triangle(t, _) => barycentric_grid(t, 6),
+                    PieceKind::Triangle(t, _, _) => barycentric_grid(t, 6),
                 };
                 let worst = points.iter().map(|q| brute(b, *q)).fold(0.0, f64::max);
                 assert!(
@@ -636,9 +675,9 @@ mod tests {
                             pieces.push((q, depth));
                         }
                     }
-                    PieceKind::Triangle(t, clear) => {
+                    PieceKind::Triangle(t, clear, copy) => {
                         kinds[3] += 1;
-                        for q in s.split(t, tried, clear).into_iter().flatten() {
+                        for q in s.split((t, copy), tried, clear).into_iter().flatten() {
                             pieces.push((q, depth + 1));
                         }
                     }
@@ -650,5 +689,72 @@ mod tests {
             kinds.iter().all(|&k| k > 10),
             "pieces checked by kind: {kinds:?}"
         );
+    }
+
+    /// The correspondence bounds ([`Copies`]) change no answer beyond the error bound: a knot
+    /// against itself moved, moved and turned a little, and against a copy with the same
+    /// triangles whose vertices moved by up to 1% of the radius, at errors of 1e-2 and 1e-3 of
+    /// the radius, with and without the bounds: each interval `[depth, upper_bound]` within the
+    /// error and the two overlapping.
+    #[test]
+    fn copy_bounds_change_no_answer() {
+        use crate::query::penetration::surface::{tests::one_thread, COPIES};
+        let m = mesh::torus_knot(80, 8).expect("knot");
+        let r = m.bounding_radius();
+        let mut state = 0x2545_f491_4f6c_dd1d_u64;
+        let mut next = || {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        let jittered: Vec<Vec3> = m
+            .vertices()
+            .iter()
+            .map(|v| *v + Vec3::new(next(), next(), next()) * (0.01 * r))
+            .collect();
+        let perturbed = TriMesh::new(jittered, m.triangles().to_vec()).expect("copy");
+        let cases: [(&TriMesh, Pose); 3] = [
+            (&m, Pose::from_translation(Vec3::new(0.3, 0.1, 0.0))),
+            (
+                &m,
+                Pose::from_axis_angle(
+                    Vec3::new(0.3, 1.0, -0.2).normalize(),
+                    0.02,
+                    Vec3::new(0.2, -0.1, 0.1),
+                ),
+            ),
+            (
+                &perturbed,
+                Pose::from_translation(Vec3::new(0.1, 0.05, 0.0)),
+            ),
+        ];
+        for (k, (b, pose)) in cases.iter().enumerate() {
+            for rel in [1e-2, 1e-3] {
+                let e = rel * r;
+                // On one thread: the switch is per thread, and the two directions are joined.
+                let run = |copies: bool| {
+                    one_thread().install(|| {
+                        COPIES.with(|c| c.set(copies));
+                        let p = pointwise_penetration(&m, &Pose::IDENTITY, b, pose, e);
+                        COPIES.with(|c| c.set(true));
+                        p.expect("pointwise")
+                    })
+                };
+                let (with, without) = (run(true), run(false));
+                for p in [&with, &without] {
+                    assert!(
+                        p.upper_bound - p.depth <= e * (1.0 + 1e-9),
+                        "case {k}: {p:?}"
+                    );
+                    assert!(p.depth > 0.0, "case {k}: no inside point found");
+                }
+                assert!(
+                    with.depth.max(without.depth)
+                        <= with.upper_bound.min(without.upper_bound) * (1.0 + 1e-12),
+                    "case {k}, error {rel}: {with:?} against {without:?}"
+                );
+            }
+        }
     }
 }

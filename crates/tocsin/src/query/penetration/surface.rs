@@ -458,6 +458,90 @@ pub(crate) fn split4(t: [Vec3; 3]) -> [[Vec3; 3]; 4] {
     ]
 }
 
+#[cfg(test)]
+thread_local! {
+    /// Whether the correspondence bounds are used ([`Copies`]; the tests compare without).
+    pub(crate) static COPIES: std::cell::Cell<bool> = const { std::cell::Cell::new(true) };
+}
+
+/// Where B holds, for every triangle of A, a triangle over the vertices of the same indices
+/// (the same triangle list: the same mesh at another pose, or a copy whose vertices moved): a
+/// point `x = sum l_k a_k` of a triangle of A then has the point `sum l_k b_k` of B, so
+/// `d(x, B) <= |sum l_k (a_k - b_k)| <= max_k |a_k - b_k|`, the largest move of its corners
+/// (a norm of an affine function is convex: its maximum over the triangle is at a corner).
+/// Where the vertices are the same too (the same mesh), every point `x` of A's frame moves by
+/// `(R - I) x + t` (`a_to_b = (R, t)`), so a node whose points lie within `rho` of its centre
+/// `c` moves by at most `|(R - I) c + t| + |R - I| rho` (the Frobenius norm, at least the
+/// operator norm), with no pass over its triangles.
+pub(crate) struct Copies<'a> {
+    /// A's triangles (vertex indices), which are B's too.
+    triangles: &'a [[u32; 3]],
+    /// B's vertices, B's frame.
+    b_vertices: &'a [Vec3],
+    /// With the same vertices: `R - I` of `a_to_b`, its Frobenius norm, and `t`.
+    pub(crate) rigid: Option<(crate::math::Mat3, f64, Vec3)>,
+}
+
+impl<'a> Copies<'a> {
+    /// The correspondence of A (`a`) onto B (`b`) placed by `a_to_b`, where B's triangle list
+    /// is A's (`None` otherwise).
+    pub(crate) fn new(a: &'a TriMesh, b: &'a TriMesh, a_to_b: &Pose) -> Option<Self> {
+        #[cfg(test)]
+        if !COPIES.with(|c| c.get()) {
+            return None;
+        }
+        if a.num_vertices() != b.num_vertices() || !same(a.triangles(), b.triangles()) {
+            return None;
+        }
+        let rigid = same(a.vertices(), b.vertices()).then(|| {
+            let m = a_to_b.rotation - crate::math::Mat3::IDENTITY;
+            let frobenius =
+                (m.x_axis.length_squared() + m.y_axis.length_squared() + m.z_axis.length_squared())
+                    .sqrt();
+            (m, frobenius, a_to_b.translation)
+        });
+        Some(Self {
+            triangles: a.triangles(),
+            b_vertices: b.vertices(),
+            rigid,
+        })
+    }
+
+    /// The bound over A's triangle `index` whose corners, in B's frame, are `t`: the largest
+    /// move of a corner, plus a rounding margin.
+    pub(crate) fn triangle(&self, index: usize, t: &[Vec3; 3]) -> f64 {
+        let ids = self.triangles[index];
+        (0..3).fold(0.0_f64, |m, k| {
+            let b = self.b_vertices[ids[k] as usize];
+            let d = (t[k] - b).length();
+            m.max(d + ROUNDING * (t[k].length() + b.length()))
+        })
+    }
+
+    /// The bound over a node of A (`rss` in A's frame) when B has A's vertices; infinite
+    /// otherwise.
+    pub(crate) fn node(&self, rss: &crate::bvh::Rss) -> f64 {
+        match self.rigid {
+            Some((m, frobenius, t)) => {
+                let c = rss.center;
+                let rho = rss.corner_radius();
+                let moved = m * c + t;
+                moved.length() + frobenius * rho + ROUNDING * (moved.length() + c.length() + rho)
+            }
+            None => f64::INFINITY,
+        }
+    }
+}
+
+/// Relative rounding margin of the correspondence bounds ([`Copies`]): a few units in the last
+/// place of the coordinates they subtract.
+const ROUNDING: f64 = 8.0 * f64::EPSILON;
+
+/// Whether two slices are equal (the same memory, or the same values).
+fn same<T: PartialEq>(a: &[T], b: &[T]) -> bool {
+    a.len() == b.len() && (std::ptr::eq(a.as_ptr(), b.as_ptr()) || a == b)
+}
+
 /// A piece waiting in a max-heap, ordered by its upper bound.
 pub(crate) struct Ranked<T> {
     pub upper: f64,
@@ -484,6 +568,14 @@ impl<T> Ord for Ranked<T> {
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;
+
+    /// A pool of one thread, for tests whose switches and counts are per thread.
+    pub(crate) fn one_thread() -> rayon::ThreadPool {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(1)
+            .build()
+            .expect("a pool of one thread")
+    }
     use crate::motion::sampling::unit;
     use rand::{Rng, SeedableRng};
     use rand_chacha::ChaCha8Rng;
