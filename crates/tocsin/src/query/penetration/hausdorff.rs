@@ -540,6 +540,21 @@ mod tests {
     use super::*;
     use crate::mesh;
 
+    /// Two answers to one query, each within the error `e` and both holding the true value
+    /// (their intervals `[distance, upper_bound]` overlap).
+    fn agree(a: &HausdorffResult, b: &HausdorffResult, e: f64, label: &str) {
+        for h in [a, b] {
+            assert!(
+                h.upper_bound - h.distance <= e * (1.0 + 1e-9),
+                "{label}: {h:?}"
+            );
+        }
+        assert!(
+            a.distance.max(b.distance) <= a.upper_bound.min(b.upper_bound) * (1.0 + 1e-12),
+            "{label}: {a:?} against {b:?}"
+        );
+    }
+
     /// Skipping unpromising node probes changes no answer beyond the error bound: on a knot
     /// against a copy moved a little (where the probes are skipped) and against a turned copy,
     /// one-sided, at errors of 1e-2 and 1e-3 of the radius, with and without skipping, each
@@ -577,14 +592,7 @@ mod tests {
                 if k == 0 {
                     assert!(skipped > 0, "no probe skipped against the moved copy");
                 }
-                for h in [&with, &without] {
-                    assert!(h.upper_bound - h.distance <= e * (1.0 + 1e-9), "{h:?}");
-                }
-                assert!(
-                    with.distance.max(without.distance)
-                        <= with.upper_bound.min(without.upper_bound) * (1.0 + 1e-12),
-                    "pose {k}, error {rel}: {with:?} against {without:?}"
-                );
+                agree(&with, &without, e, &format!("pose {k}, error {rel}"));
             }
         }
     }
@@ -602,19 +610,7 @@ mod tests {
         let r = m.bounding_radius();
         let rebuilt = mesh::torus_knot(100, 8).expect("knot");
         // Seeded offsets of every vertex, up to 1% of the radius per coordinate.
-        let mut state = 0x9e37_79b9_7f4a_7c15_u64;
-        let mut next = || {
-            state = state
-                .wrapping_mul(6_364_136_223_846_793_005)
-                .wrapping_add(1_442_695_040_888_963_407);
-            (state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-        };
-        let jittered: Vec<Vec3> = m
-            .vertices()
-            .iter()
-            .map(|v| *v + Vec3::new(next(), next(), next()) * (0.01 * r))
-            .collect();
-        let perturbed = TriMesh::new(jittered, m.triangles().to_vec()).expect("copy");
+        let perturbed = crate::query::penetration::surface::tests::jittered(&m, 0.01 * r, 7);
         let moved = Pose::from_translation(Vec3::new(0.3, 0.1, 0.05));
         let turned = Pose::from_axis_angle(
             Vec3::new(0.3, 1.0, -0.2).normalize(),
@@ -652,14 +648,7 @@ mod tests {
                         settled > 0,
                         "case {k}, error {rel}: the copy bounded nothing"
                     );
-                    for h in [&with, &without] {
-                        assert!(h.upper_bound - h.distance <= e * (1.0 + 1e-9), "{h:?}");
-                    }
-                    assert!(
-                        with.distance.max(without.distance)
-                            <= with.upper_bound.min(without.upper_bound) * (1.0 + 1e-12),
-                        "case {k}, error {rel}: {with:?} against {without:?}"
-                    );
+                    agree(&with, &without, e, &format!("case {k}, error {rel}"));
                 }
             }
             // The bound exists for every case, and not for a different knot.

@@ -701,19 +701,7 @@ mod tests {
         use crate::query::penetration::surface::{tests::one_thread, COPIES};
         let m = mesh::torus_knot(80, 8).expect("knot");
         let r = m.bounding_radius();
-        let mut state = 0x2545_f491_4f6c_dd1d_u64;
-        let mut next = || {
-            state = state
-                .wrapping_mul(6_364_136_223_846_793_005)
-                .wrapping_add(1_442_695_040_888_963_407);
-            (state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-        };
-        let jittered: Vec<Vec3> = m
-            .vertices()
-            .iter()
-            .map(|v| *v + Vec3::new(next(), next(), next()) * (0.01 * r))
-            .collect();
-        let perturbed = TriMesh::new(jittered, m.triangles().to_vec()).expect("copy");
+        let perturbed = crate::query::penetration::surface::tests::jittered(&m, 0.01 * r, 7);
         let cases: [(&TriMesh, Pose); 3] = [
             (&m, Pose::from_translation(Vec3::new(0.3, 0.1, 0.0))),
             (

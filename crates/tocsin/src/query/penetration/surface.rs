@@ -569,6 +569,18 @@ impl<T> Ord for Ranked<T> {
 pub(crate) mod tests {
     use super::*;
 
+    /// A copy of `m` with its triangle list and every vertex moved by a seeded offset of up to
+    /// `size` per coordinate.
+    pub(crate) fn jittered(m: &TriMesh, size: f64, seed: u64) -> TriMesh {
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        let vertices: Vec<Vec3> = m
+            .vertices()
+            .iter()
+            .map(|v| *v + unit(&mut rng) * (size * rng.random_range(0.0..1.0)))
+            .collect();
+        TriMesh::new(vertices, m.triangles().to_vec()).expect("a valid copy")
+    }
+
     /// A pool of one thread, for tests whose switches and counts are per thread.
     pub(crate) fn one_thread() -> rayon::ThreadPool {
         rayon::ThreadPoolBuilder::new()
