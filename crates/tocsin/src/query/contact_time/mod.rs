@@ -223,7 +223,7 @@ pub fn time_of_contact_with_cache(
 /// witnesses, which saves the final exact distance (about 40% of a knot34k time of contact),
 /// stops at the first iteration within the tolerance, and settles colliding motions with exact
 /// collision tests at a few times before the advancement converges to the contact
-/// ([`probe`]'s schedule: the end, the middle, then evenly spaced times of the rest when the
+/// (`probe.rs`'s schedule: the end, the middle, then evenly spaced times of the rest when the
 /// advancement is slow). A collision found so is a real one, so the answer is the same.
 ///
 /// # Errors
