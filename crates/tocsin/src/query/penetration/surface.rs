@@ -507,6 +507,14 @@ impl<'a> Copies<'a> {
         })
     }
 
+    /// The move, where B has A's vertices and A is only translated onto it (`R = I` exactly).
+    pub(crate) fn translation(&self) -> Option<Vec3> {
+        match self.rigid {
+            Some((_, 0.0, t)) => Some(t),
+            _ => None,
+        }
+    }
+
     /// The bound over A's triangle `index` whose corners, in B's frame, are `t`: the largest
     /// move of a corner, plus a rounding margin.
     pub(crate) fn triangle(&self, index: usize, t: &[Vec3; 3]) -> f64 {
