@@ -576,9 +576,12 @@ impl<T> Ord for Ranked<T> {
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;
+    use crate::motion::sampling::unit;
+    use rand::{Rng, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
 
-    /// A copy of `m` with its triangle list and every vertex moved by a seeded offset of up to
-    /// `size` per coordinate.
+    /// A copy of `m` with its triangle list and every vertex moved by a seeded offset of length
+    /// up to `size` in a random direction.
     pub(crate) fn jittered(m: &TriMesh, size: f64, seed: u64) -> TriMesh {
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
         let vertices: Vec<Vec3> = m
@@ -596,9 +599,6 @@ pub(crate) mod tests {
             .build()
             .expect("a pool of one thread")
     }
-    use crate::motion::sampling::unit;
-    use rand::{Rng, SeedableRng};
-    use rand_chacha::ChaCha8Rng;
 
     /// Distance from `p` to the triangle by its candidate critical points: the three edges'
     /// (clamped projections, corners) and the interior one from the Gram system, written
