@@ -131,6 +131,28 @@ fn motion_pairs(
     Ok(m1.into_iter().zip(m2).collect())
 }
 
+/// The options and the (motion1, motion2) pairs of a motion batch read from Python, and `batch`
+/// (a Rust motion batch) run on them with the GIL released: the motion batches' common part.
+#[allow(clippy::type_complexity)]
+fn run_motions<T: Send>(
+    py: Python<'_>,
+    (mesh1, mesh2): (&Mesh, &Mesh),
+    body1: (&Bound<'_, PyAny>, &Bound<'_, PyAny>),
+    body2: (&Bound<'_, PyAny>, &Bound<'_, PyAny>),
+    (kind, tolerance, max_iterations): (&str, Option<f64>, Option<&Bound<'_, PyAny>>),
+    batch: fn(
+        &tocsin::TriMesh,
+        &tocsin::TriMesh,
+        &[(tocsin::Motion, tocsin::Motion)],
+        &tocsin::ContactOptions,
+    ) -> Result<Vec<Result<T, ContactError>>, tocsin::OptionsError>,
+) -> PyResult<Vec<Result<T, ContactError>>> {
+    let opts = contact_options(py, tolerance, max_iterations)?;
+    let pairs = motion_pairs(py, body1, body2, kind)?;
+    let (a, b) = (mesh1.inner.clone(), mesh2.inner.clone());
+    pool::run(py, || batch(&a, &b, &pairs, &opts))?.map_err(|e| options_error(py, e))
+}
+
 type FreeArrays<'py> = (Bound<'py, PyArray1<bool>>, Bound<'py, PyArray1<bool>>);
 
 /// Whether K motions are free of contact: (free, decided) boolean arrays; a row that reached
@@ -150,11 +172,14 @@ pub(crate) fn _motion_is_free_batch<'py>(
     tolerance: Option<f64>,
     max_iterations: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<FreeArrays<'py>> {
-    let opts = contact_options(py, tolerance, max_iterations)?;
-    let pairs = motion_pairs(py, (starts1, ends1), (starts2, ends2), kind)?;
-    let (a, b) = (mesh1.inner.clone(), mesh2.inner.clone());
-    let r = pool::run(py, || tocsin::motion_is_free_batch(&a, &b, &pairs, &opts))?
-        .map_err(|e| options_error(py, e))?;
+    let r = run_motions(
+        py,
+        (mesh1, mesh2),
+        (starts1, ends1),
+        (starts2, ends2),
+        (kind, tolerance, max_iterations),
+        tocsin::motion_is_free_batch,
+    )?;
     let free = r.iter().map(|x| matches!(x, Ok(true))).collect();
     let decided = r.iter().map(Result::is_ok).collect();
     Ok((
@@ -181,11 +206,14 @@ pub(crate) fn _time_of_contact_batch<'py>(
     tolerance: Option<f64>,
     max_iterations: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<ContactArrays<'py>> {
-    let opts = contact_options(py, tolerance, max_iterations)?;
-    let pairs = motion_pairs(py, (starts1, ends1), (starts2, ends2), kind)?;
-    let (a, b) = (mesh1.inner.clone(), mesh2.inner.clone());
-    let r = pool::run(py, || tocsin::time_of_contact_batch(&a, &b, &pairs, &opts))?
-        .map_err(|e| options_error(py, e))?;
+    let r = run_motions(
+        py,
+        (mesh1, mesh2),
+        (starts1, ends1),
+        (starts2, ends2),
+        (kind, tolerance, max_iterations),
+        tocsin::time_of_contact_batch,
+    )?;
     let contact = |x: &Result<Option<tocsin::ContactTime>, ContactError>| match x {
         Ok(Some(c)) => Some(*c),
         _ => None,

@@ -565,13 +565,7 @@ pub fn time_of_contact_batch(
     motions: &[(Motion, Motion)],
     options: &ContactOptions,
 ) -> Result<Vec<Result<Option<ContactTime>, ContactError>>, OptionsError> {
-    use rayon::prelude::*;
-    let still = Motion::stationary(crate::Pose::IDENTITY);
-    validate(mesh1, &still, mesh2, &still, options)?;
-    Ok(motions
-        .par_iter()
-        .map(|(m1, m2)| time_of_contact(mesh1, m1, mesh2, m2, options))
-        .collect())
+    each_motion(mesh1, mesh2, motions, options, time_of_contact)
 }
 
 /// [`motion_is_free`] for every `(motion1, motion2)` in `motions`, in parallel (rayon): the
@@ -584,12 +578,25 @@ pub fn motion_is_free_batch(
     motions: &[(Motion, Motion)],
     options: &ContactOptions,
 ) -> Result<Vec<Result<bool, ContactError>>, OptionsError> {
+    each_motion(mesh1, mesh2, motions, options, motion_is_free)
+}
+
+/// `query` for every `(motion1, motion2)` in `motions`, in parallel (rayon), in input order,
+/// once the options are checked (also for an empty batch): the motion batches' common part.
+fn each_motion<T: Send>(
+    mesh1: &TriMesh,
+    mesh2: &TriMesh,
+    motions: &[(Motion, Motion)],
+    options: &ContactOptions,
+    query: impl Fn(&TriMesh, &Motion, &TriMesh, &Motion, &ContactOptions) -> Result<T, ContactError>
+        + Sync,
+) -> Result<Vec<Result<T, ContactError>>, OptionsError> {
     use rayon::prelude::*;
     let still = Motion::stationary(crate::Pose::IDENTITY);
     validate(mesh1, &still, mesh2, &still, options)?;
     Ok(motions
         .par_iter()
-        .map(|(m1, m2)| motion_is_free(mesh1, m1, mesh2, m2, options))
+        .map(|(m1, m2)| query(mesh1, m1, mesh2, m2, options))
         .collect())
 }
 

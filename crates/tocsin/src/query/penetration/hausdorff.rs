@@ -438,12 +438,6 @@ impl OneSided<'_> {
                 PieceKind::Node(i, probed) => {
                     let nodes = self.a.nodes();
                     let parent = &nodes[i as usize];
-                    // The lower bound has risen since the piece was made.
-                    let copy = self.copy_bound(&parent.rss);
-                    if copy <= self.lower + self.max_error {
-                        self.settle_by_copy(copy);
-                        continue;
-                    }
                     let middle = parent.leaf_range().start + parent.leaf_range().len() / 2;
                     let (l, r) = parent.children(i);
                     for c in [l, r] {
@@ -482,10 +476,6 @@ impl OneSided<'_> {
                     }
                 }
                 PieceKind::Triangle(t, copy) => {
-                    if copy <= self.lower + self.max_error {
-                        self.settle_by_copy(copy);
-                        continue;
-                    }
                     // The parts that the parent's triangles do not settle are sampled first,
                     // then bounded with each other's nearest triangles of B among the
                     // candidates too (spread over the parent, they tighten the envelope).
