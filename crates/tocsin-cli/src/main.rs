@@ -23,7 +23,7 @@ use serde_json::json;
 use std::process::ExitCode;
 use tocsin::{
     collide, collide_pairs, distance, motion_is_free, time_of_contact, within_distance,
-    ContactOptions, ContactTime, DistanceOptions, Motion, Pose, TriMesh,
+    ContactOptions, ContactTime, DistanceOptions, Motion, Pose, TriMesh, Witnesses,
 };
 
 #[derive(Parser)]
@@ -71,6 +71,11 @@ struct MotionArgs {
     /// Iteration cap.
     #[arg(long, default_value_t = 1000)]
     max_iterations: usize,
+    /// Report the meshes' closest points and exact distance at the time of contact (one exact
+    /// distance query more) instead of the contact pair's points, which are within the
+    /// tolerance.
+    #[arg(long)]
+    closest: bool,
 }
 
 impl MotionArgs {
@@ -85,6 +90,11 @@ impl MotionArgs {
         let opts = ContactOptions {
             tolerance: self.tolerance,
             max_iterations: self.max_iterations,
+            witnesses: if self.closest {
+                Witnesses::Closest
+            } else {
+                Witnesses::Contact
+            },
         };
         Ok((m1, mo1, m2, mo2, opts))
     }

@@ -45,6 +45,10 @@ pub struct RobotPathArgs {
     /// Only whether the segment is free (stops at the first contact found; no witnesses).
     #[arg(long)]
     free_only: bool,
+    /// Report the two objects' closest points and exact distance at the time of contact (one
+    /// exact distance query more) instead of the contact pair's points.
+    #[arg(long)]
+    closest: bool,
 }
 
 #[derive(Deserialize)]
@@ -99,6 +103,11 @@ pub fn run(args: &RobotPathArgs) -> Result<Value, String> {
     let (q0, q1) = (numbers(&args.q0, "--q0")?, numbers(&args.q1, "--q1")?);
     let opts = RobotOptions {
         tolerance: args.tolerance,
+        witnesses: if args.closest {
+            tocsin::Witnesses::Closest
+        } else {
+            tocsin::Witnesses::Contact
+        },
         ..RobotOptions::default()
     };
     let start = std::time::Instant::now();

@@ -17,7 +17,9 @@
 //!     { "query": "hausdorff", "mesh1": "a", "mesh2": "b", "symmetric": true } ] }
 //! ```
 //! Poses are 3, 6 or 16 numbers as on the command line; a missing pose is the identity and a
-//! missing motion keeps the body at the identity. Relative mesh paths are taken from the scene
+//! missing motion keeps the body at the identity. `contact_time` takes `"closest": true` to
+//! report the meshes' closest points at the time (one exact distance query more) instead of the
+//! contact pair's, which are within the tolerance. Relative mesh paths are taken from the scene
 //! file's folder. A key given twice (a mesh name, a query field) is an error, not "the last
 //! one wins".
 
@@ -33,7 +35,7 @@ use tocsin::query::penetration::default_max_error;
 use tocsin::{
     collide, distance, hausdorff_distance, motion_is_free, penetration_depth,
     pointwise_penetration, time_of_contact, within_distance, ContactOptions, DepthOptions,
-    DistanceOptions, Motion, Pose, TriMesh, Vec3,
+    DistanceOptions, Motion, Pose, TriMesh, Vec3, Witnesses,
 };
 
 #[derive(Deserialize)]
@@ -93,6 +95,10 @@ struct Motions {
     motion2: Option<MotionSpec>,
     tolerance: Option<f64>,
     max_iterations: Option<usize>,
+    /// `contact_time` reports the closest points at the time (one exact distance query more)
+    /// rather than the contact pair's.
+    #[serde(default)]
+    closest: bool,
 }
 
 #[derive(Deserialize)]
@@ -258,6 +264,11 @@ pub fn run(path: &str) -> Result<Value, String> {
                     max_iterations: m
                         .max_iterations
                         .unwrap_or(ContactOptions::default().max_iterations),
+                    witnesses: if m.closest {
+                        Witnesses::Closest
+                    } else {
+                        Witnesses::Contact
+                    },
                 };
                 let (m1, mo1, m2, mo2) = (
                     get(&m.mesh1, i)?,

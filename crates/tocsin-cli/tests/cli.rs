@@ -68,6 +68,26 @@ fn contact_time_prints_json() {
     assert_eq!(v["contact"], true);
     let t = v["time"].as_f64().unwrap();
     assert!(t <= 0.5 && t > 0.5 - 1e-6, "{t}");
+    // `--closest`: the same time, the meshes' closest points (no farther apart than the
+    // contact pair's).
+    let (code, out, err) = tocsin(&[
+        "contact-time",
+        "builtin:box",
+        "builtin:box",
+        "--motion1",
+        "translation:3,0,0:-1,0,0",
+        "--tolerance",
+        "1e-6",
+        "--closest",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let c: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(c["time"], v["time"]);
+    let (dc, dv) = (
+        c["distance"].as_f64().unwrap(),
+        v["distance"].as_f64().unwrap(),
+    );
+    assert!(dc <= dv && dv <= 1e-6, "{dc} {dv}");
     let (_, out, _) = tocsin(&[
         "contact-time",
         "builtin:box",
@@ -156,13 +176,18 @@ fn scene_files_in_json_and_toml() {
         { "query": "motion_is_free", "mesh1": "a", "mesh2": "a",
           "motion1": { "kind": "translation", "start": [3, 0, 0], "end": [-1, 0, 0] } },
         { "query": "motion_is_free", "mesh1": "a", "mesh2": "a", "max_iterations": 50,
-          "motion1": { "kind": "translation", "start": [3, 0, 0], "end": [3, 0, 5] } }
+          "motion1": { "kind": "translation", "start": [3, 0, 0], "end": [3, 0, 5] } },
+        { "query": "contact_time", "mesh1": "k", "mesh2": "k", "closest": true,
+          "motion1": { "kind": "interp", "start": [-14, 1, 0.5], "end": [14, 0, 0, 0, 0, 1.2], "center": [0, 0, 0] } }
       ] }"#;
     let (code, out, err) = tocsin(&["run", &scene_file("s.json", json)]);
     assert_eq!(code, 0, "{err}");
     let v: serde_json::Value = serde_json::from_str(&out).unwrap();
     let r = v["results"].as_array().unwrap();
-    assert_eq!(r.len(), 10);
+    assert_eq!(r.len(), 11);
+    // The knot's contact with its closest points: the same time, no farther apart.
+    assert_eq!(r[10]["time"], r[4]["time"]);
+    assert!(r[10]["distance"].as_f64().unwrap() <= r[4]["distance"].as_f64().unwrap());
     // Unit boxes overlapping by 0.2 along x: pushed apart by 0.2, deepest points 0.2 inside;
     // lifted by 0.25: every point of one within 0.25 of the other.
     assert_eq!(r[5]["status"], "converged");

@@ -1,6 +1,6 @@
 //! Batch queries for one mesh pair (the Python wrappers in `tocsin/_batch.py` name the fields).
 
-use crate::contact::contact_options;
+use crate::contact::{contact_options, witnesses};
 use crate::convert::{array2, poses_from};
 use crate::errors::{error, motion_error, options_error};
 use crate::mesh::Mesh;
@@ -139,7 +139,12 @@ fn run_motions<T: Send>(
     (mesh1, mesh2): (&Mesh, &Mesh),
     body1: (&Bound<'_, PyAny>, &Bound<'_, PyAny>),
     body2: (&Bound<'_, PyAny>, &Bound<'_, PyAny>),
-    (kind, tolerance, max_iterations): (&str, Option<f64>, Option<&Bound<'_, PyAny>>),
+    (kind, tolerance, max_iterations, closest): (
+        &str,
+        Option<f64>,
+        Option<&Bound<'_, PyAny>>,
+        bool,
+    ),
     batch: fn(
         &tocsin::TriMesh,
         &tocsin::TriMesh,
@@ -147,7 +152,10 @@ fn run_motions<T: Send>(
         &tocsin::ContactOptions,
     ) -> Result<Vec<Result<T, ContactError>>, tocsin::OptionsError>,
 ) -> PyResult<Vec<Result<T, ContactError>>> {
-    let opts = contact_options(py, tolerance, max_iterations)?;
+    let opts = tocsin::ContactOptions {
+        witnesses: witnesses(closest),
+        ..contact_options(py, tolerance, max_iterations)?
+    };
     let pairs = motion_pairs(py, body1, body2, kind)?;
     let (a, b) = (mesh1.inner.clone(), mesh2.inner.clone());
     pool::run(py, || batch(&a, &b, &pairs, &opts))?.map_err(|e| options_error(py, e))
@@ -177,7 +185,7 @@ pub(crate) fn _motion_is_free_batch<'py>(
         (mesh1, mesh2),
         (starts1, ends1),
         (starts2, ends2),
-        (kind, tolerance, max_iterations),
+        (kind, tolerance, max_iterations, false),
         tocsin::motion_is_free_batch,
     )?;
     let free = r.iter().map(|x| matches!(x, Ok(true))).collect();
@@ -192,7 +200,7 @@ pub(crate) fn _motion_is_free_batch<'py>(
 /// 0 none, 1 converged, 2 started in contact, 3 iteration limit (no contact, undecided), and
 /// the time up to which each motion is known free of contact.
 #[pyfunction]
-#[pyo3(signature = (mesh1, starts1, ends1, mesh2, starts2, ends2, kind, tolerance=None, max_iterations=None))]
+#[pyo3(signature = (mesh1, starts1, ends1, mesh2, starts2, ends2, kind, tolerance=None, max_iterations=None, closest=false))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn _time_of_contact_batch<'py>(
     py: Python<'py>,
@@ -205,13 +213,14 @@ pub(crate) fn _time_of_contact_batch<'py>(
     kind: &str,
     tolerance: Option<f64>,
     max_iterations: Option<&Bound<'_, PyAny>>,
+    closest: bool,
 ) -> PyResult<ContactArrays<'py>> {
     let r = run_motions(
         py,
         (mesh1, mesh2),
         (starts1, ends1),
         (starts2, ends2),
-        (kind, tolerance, max_iterations),
+        (kind, tolerance, max_iterations, closest),
         tocsin::time_of_contact_batch,
     )?;
     let contact = |x: &Result<Option<tocsin::ContactTime>, ContactError>| match x {

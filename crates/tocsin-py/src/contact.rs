@@ -6,13 +6,15 @@ use crate::mesh::Mesh;
 use crate::motion::Motion;
 use numpy::PyArray1;
 use pyo3::prelude::*;
-use tocsin::{ContactOptions, ContactStatus, Vec3};
+use tocsin::{ContactOptions, ContactStatus, Vec3, Witnesses};
 
 /// When and where two moving meshes first come within the tolerance.
 ///
 /// `time` is no later than the first collision, and the distance there is at most the
-/// tolerance. The normal points from body 1 to body 2: the direction between the closest
-/// points where that is determined; at a distance below rounding (1e-10 of the scene scale),
+/// tolerance. point1 and point2 are the closest points of the triangle pair that ended the
+/// advancement (within the tolerance; the meshes' distance is at most `distance`), or with
+/// time_of_contact(..., closest=True) the meshes' closest points and exact distance. The normal
+/// points from body 1 to body 2: the direction between the points where that is determined; at a distance below rounding (1e-10 of the scene scale),
 /// the direction at the last advancement step where the meshes were clearly apart; when the
 /// meshes start in contact, the normal of triangle1 turned towards triangle2 (a convention).
 #[pyclass(frozen, module = "tocsin._core")]
@@ -23,7 +25,8 @@ pub(crate) struct ContactResult {
     p1: Vec3,
     p2: Vec3,
     n: Vec3,
-    /// Distance at `time`, model units, at most the tolerance.
+    /// Distance between point1 and point2, model units, at most the tolerance: the meshes'
+    /// distance at `time` with closest=True, an upper bound on it otherwise.
     #[pyo3(get)]
     distance: f64,
     /// Triangle of mesh 1 holding point1.
@@ -42,13 +45,13 @@ pub(crate) struct ContactResult {
 
 #[pymethods]
 impl ContactResult {
-    /// Closest point on mesh 1 at `time`, world frame, shape (3,).
+    /// Point of mesh 1 at `time` (the contact pair's, or the closest), world frame, shape (3,).
     #[getter]
     fn point1<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
         vec3(py, self.p1)
     }
 
-    /// Closest point on mesh 2 at `time`, world frame, shape (3,).
+    /// Point of mesh 2 at `time` (the contact pair's, or the closest), world frame, shape (3,).
     #[getter]
     fn point2<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
         vec3(py, self.p2)
@@ -103,7 +106,18 @@ pub(crate) fn contact_options(
             Some(m) => count(py, m, "max_iterations", 1, "OptionsError")?,
             None => ContactOptions::default().max_iterations,
         },
+        ..ContactOptions::default()
     })
+}
+
+/// The witnesses a time of contact reports: the closest points when `closest`, else the
+/// contact pair's.
+pub(crate) fn witnesses(closest: bool) -> Witnesses {
+    if closest {
+        Witnesses::Closest
+    } else {
+        Witnesses::Contact
+    }
 }
 
 /// First time of contact of mesh1 moving by motion1 and mesh2 moving by motion2 over t in
@@ -112,8 +126,12 @@ pub(crate) fn contact_options(
 /// either in between. The tolerance defaults to 1e-3 of the smaller bounding radius (raised
 /// for degenerate meshes). Raises IterationLimitError when max_iterations (default 1000) runs
 /// out first: that is no contact, and the motion is only known free up to its time_reached.
+/// The points reported are those of the triangle pair that ended the advancement (within the
+/// tolerance, its distance the one reported); closest=True reports the meshes' closest points
+/// and exact distance at that time instead, for one exact distance query more.
 #[pyfunction]
-#[pyo3(signature = (mesh1, motion1, mesh2, motion2, tolerance=None, max_iterations=None))]
+#[pyo3(signature = (mesh1, motion1, mesh2, motion2, tolerance=None, max_iterations=None, closest=false))]
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn time_of_contact(
     py: Python<'_>,
     mesh1: &Mesh,
@@ -122,8 +140,12 @@ pub(crate) fn time_of_contact(
     motion2: &Motion,
     tolerance: Option<f64>,
     max_iterations: Option<&Bound<'_, PyAny>>,
+    closest: bool,
 ) -> PyResult<Option<ContactResult>> {
-    let opts = contact_options(py, tolerance, max_iterations)?;
+    let opts = ContactOptions {
+        witnesses: witnesses(closest),
+        ..contact_options(py, tolerance, max_iterations)?
+    };
     let (m1, m2) = (mesh1.inner.clone(), mesh2.inner.clone());
     let (mo1, mo2) = (motion1.inner, motion2.inner);
     let r = py

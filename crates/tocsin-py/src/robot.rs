@@ -2,7 +2,7 @@
 //! `RobotContact`, and the segment queries (time of contact, path checks, configuration checks,
 //! batches). Every query releases the GIL; batches run in the binding's fork-safe pool.
 
-use crate::contact::status_name;
+use crate::contact::{status_name, witnesses};
 use crate::convert::{as_array, pose_from, pose_to_numpy, vec3};
 use crate::errors::{contact_error, count, error, mesh_error};
 use crate::mesh::Mesh;
@@ -534,8 +534,10 @@ impl Robot {
     /// obstacles: a RobotContact whenever some checked pair comes within tolerance / 2 (always
     /// when one collides), no later than the first collision; None when every pair stays
     /// farther apart than the tolerance. The tolerance defaults to 1e-3 of the smallest
-    /// bounding radius among the robot's collision objects. Exact: no sampling.
-    #[pyo3(signature = (q0, q1, scene=None, tolerance=None, max_iterations=None, cache=None))]
+    /// bounding radius among the robot's collision objects. Exact: no sampling. The points
+    /// are those of the triangle pair that ended the pair's advancement (within the tolerance);
+    /// closest=True reports the two objects' closest points and exact distance instead.
+    #[pyo3(signature = (q0, q1, scene=None, tolerance=None, max_iterations=None, cache=None, closest=false))]
     #[allow(clippy::too_many_arguments)]
     fn time_of_contact(
         &self,
@@ -546,14 +548,16 @@ impl Robot {
         tolerance: Option<f64>,
         max_iterations: Option<&Bound<'_, PyAny>>,
         cache: Option<&RobotCache>,
+        closest: bool,
     ) -> PyResult<Option<RobotContact>> {
         let SegmentCall {
             a,
             b,
-            opts,
+            mut opts,
             robot,
             scene,
         } = self.segment_call(py, q0, q1, scene, tolerance, max_iterations)?;
+        opts.witnesses = witnesses(closest);
         let r = py
             .detach(|| match cache {
                 Some(c) => {
@@ -690,7 +694,9 @@ impl Robot {
 
     /// time_of_contact for every segment (Q0[i], Q1[i]), on all cores: a list of RobotContact
     /// or None, identical to the single calls. The first failing segment raises, naming it.
-    #[pyo3(signature = (q0s, q1s, scene=None, tolerance=None, max_iterations=None))]
+    /// `closest` as in time_of_contact.
+    #[pyo3(signature = (q0s, q1s, scene=None, tolerance=None, max_iterations=None, closest=false))]
+    #[allow(clippy::too_many_arguments)]
     fn time_of_contact_batch(
         &self,
         py: Python<'_>,
@@ -699,9 +705,13 @@ impl Robot {
         scene: Option<&Scene>,
         tolerance: Option<f64>,
         max_iterations: Option<&Bound<'_, PyAny>>,
+        closest: bool,
     ) -> PyResult<Vec<Option<RobotContact>>> {
         let segments = self.segments(q0s, q1s)?;
-        let opts = options(py, tolerance, max_iterations)?;
+        let opts = RobotOptions {
+            witnesses: witnesses(closest),
+            ..options(py, tolerance, max_iterations)?
+        };
         let (robot, scene) = (snapshot(&self.inner), scene_of(scene));
         let r = pool::run(py, || {
             rq::time_of_contact_batch(&robot, &segments, &scene, &opts)
@@ -915,7 +925,8 @@ pub(crate) struct RobotContact {
     /// Whether object2 is part of the robot.
     #[pyo3(get)]
     self_collision: bool,
-    /// Distance between the two objects at `time` (model units, >= 0, at most the tolerance).
+    /// Distance between point1 and point2 (model units, >= 0, at most the tolerance): the
+    /// objects' distance at `time` with closest=True, an upper bound on it otherwise.
     #[pyo3(get)]
     distance: f64,
     /// Advancement iterations of the pair that made the contact.
@@ -931,13 +942,13 @@ pub(crate) struct RobotContact {
 
 #[pymethods]
 impl RobotContact {
-    /// Closest point on object1 at `time`, world frame, shape (3,).
+    /// Point of object1 at `time` (the contact pair's, or the closest), world frame, shape (3,).
     #[getter]
     fn point1<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
         vec3(py, self.p1)
     }
 
-    /// Closest point on object2 at `time`, world frame, shape (3,).
+    /// Point of object2 at `time` (the contact pair's, or the closest), world frame, shape (3,).
     #[getter]
     fn point2<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
         vec3(py, self.p2)

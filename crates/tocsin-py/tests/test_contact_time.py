@@ -32,9 +32,22 @@ def test_knot_through_knot(kind):
     assert r.time <= t_hit
     assert r.status == "converged"
     d = tocsin.distance(knot, motion.pose_at(r.time), knot, np.eye(4)).distance
-    assert d <= 1e-3 and r.distance == pytest.approx(d, rel=1e-9, abs=1e-15)
+    # The contact pair's points: as far apart as the distance reported, which is at least the
+    # meshes' and within the tolerance.
+    assert d <= r.distance * (1 + 1e-9) and r.distance <= 1e-3
+    assert np.linalg.norm(r.point2 - r.point1) == pytest.approx(r.distance, rel=1e-9)
     assert np.linalg.norm(r.normal) == pytest.approx(1.0)
+    assert np.dot(r.normal, r.point2 - r.point1) > 0
     assert r.point1.shape == (3,) and r.iterations >= 1
+    # closest=True: the same advancement, the meshes' closest points and exact distance.
+    c = tocsin.time_of_contact(knot, motion, knot, still, tolerance=1e-3, closest=True)
+    assert (c.time, c.iterations, c.status) == (r.time, r.iterations, r.status)
+    assert c.distance == pytest.approx(d, rel=1e-9, abs=1e-15)
+    batch = tocsin.time_of_contact_batch(
+        knot, [motion.pose_at(0.0)], [motion.pose_at(1.0)], knot, kind=kind, tolerance=1e-3,
+        closest=True,
+    )
+    assert batch.time[0] == c.time and batch.distance[0] == c.distance
 
 
 def test_miss_and_start_in_contact():

@@ -146,7 +146,10 @@ def test_segments_against_dense_sampling(urdf, srdf, offset):
         if first is not None:
             assert got.time <= first + 1e-12, f"late: {got.time} > {first}"
         q = lerp(q0, q1, got.time)
-        # The reported distance is the exact distance of the named pair there.
+        # The contact pair's distance is at least the named objects' there; with closest=True,
+        # the same contact at their exact distance.
+        exact = robot.time_of_contact(q0, q1, scene, closest=True)
+        assert (exact.time, exact.object1, exact.object2) == (got.time, got.object1, got.object2)
         poses = dict(zip(robot.object_names, robot.object_poses(q)))
         m1 = robot.object_mesh(got.object1)
         if got.self_collision:
@@ -154,7 +157,9 @@ def test_segments_against_dense_sampling(urdf, srdf, offset):
         else:
             m2, p2 = obstacles[got.object2]
         d = tocsin.distance(m1, poses[got.object1], m2, p2).distance
-        assert abs(d - got.distance) < 1e-9 * (1 + offset)
+        assert abs(d - exact.distance) < 1e-9 * (1 + offset)
+        assert got.distance >= d - 1e-9 * (1 + offset)
+        assert np.linalg.norm(got.point2 - got.point1) == pytest.approx(got.distance, abs=1e-9 * (1 + offset))
         tolerance = 1e-3 * min(robot.object_mesh(n).bounding_radius for n in robot.object_names)
         assert got.distance <= tolerance * (1 + 1e-9)
     print(counts)
@@ -181,6 +186,7 @@ def test_batches_match_single_calls():
     before = (q0s.copy(), q1s.copy())
     free = robot.paths_are_free(q0s, q1s, scene)
     contacts = robot.time_of_contact_batch(q0s, q1s, scene)
+    closest = robot.time_of_contact_batch(q0s, q1s, scene, closest=True)
     cache = tocsin.RobotCache()
     for i in range(len(q0s)):
         single = robot.time_of_contact(q0s[i], q1s[i], scene)
@@ -192,6 +198,8 @@ def test_batches_match_single_calls():
         assert (contacts[i] is None) == (single is None)
         if single is not None:
             assert contacts[i].time == single.time and contacts[i].object2 == single.object2
+            assert contacts[i].distance == single.distance
+            assert closest[i].time == single.time and closest[i].distance <= single.distance
     np.testing.assert_array_equal(robot.check_configurations(q0s, scene), [robot.in_collision(q, scene) for q in q0s])
     np.testing.assert_array_equal(before[0], q0s)  # the caller's arrays are not modified
     np.testing.assert_array_equal(before[1], q1s)

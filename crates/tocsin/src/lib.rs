@@ -29,6 +29,7 @@ pub use query::collide::{collide, collide_batch, collide_pairs};
 pub use query::contact_time::{
     motion_is_free, motion_is_free_batch, time_of_contact, time_of_contact_batch,
     time_of_contact_with_cache, ContactCache, ContactOptions, ContactStatus, ContactTime,
+    Witnesses,
 };
 pub use query::distance::{
     distance, distance_batch, distance_with_cache, within_distance, DistanceCache, DistanceOptions,

@@ -9,7 +9,7 @@ use common::*;
 use rand::Rng;
 use tocsin::{
     collide, distance, mesh, time_of_contact, ContactOptions, ContactStatus, DistanceOptions,
-    Motion, Pose, TriMesh, Vec3,
+    Motion, Pose, TriMesh, Vec3, Witnesses,
 };
 
 const SAMPLES: usize = 1200;
@@ -83,6 +83,17 @@ fn check(
     };
     let delta = tocsin::query::contact_time::effective_tolerance(m1, mo1, m2, mo2, &opts);
     let r = time_of_contact(m1, mo1, m2, mo2, &opts).unwrap();
+    // The closest points at the same time: the same advancement, one exact distance more.
+    let closest_opts = ContactOptions {
+        witnesses: Witnesses::Closest,
+        ..opts
+    };
+    let exact = time_of_contact(m1, mo1, m2, mo2, &closest_opts).unwrap();
+    assert_eq!(
+        r.map(|c| (c.time, c.iterations, c.status)),
+        exact.map(|c| (c.time, c.iterations, c.status)),
+        "{label}: the witnesses changed the advancement"
+    );
     // The planner's question gives the same answer, so the oracle checks below hold for it too.
     let free = tocsin::motion_is_free(m1, mo1, m2, mo2, &opts).unwrap();
     assert_eq!(free, r.is_none(), "{label}: motion_is_free disagrees");
@@ -109,12 +120,45 @@ fn check(
                 + m1.bounding_radius()
                 + m2.bounding_radius();
             let rounding = 16.0 * f64::EPSILON * world;
+            let e = exact.expect("the same advancement");
             assert_rel(
-                c.distance,
+                e.distance,
                 bd,
                 1e-9,
                 1e-12 * delta + rounding,
-                "reported distance",
+                "reported closest distance",
+            );
+            // The contact pair's points: on the triangles named (to 1e-6 of the tolerance: the
+            // oracle's projection onto a sliver rounds at 1e-11 of its size), as far apart as the distance
+            // reported, which is at least the meshes' and within the tolerance.
+            let on = |m: &TriMesh, p: &Pose, t: usize, x: Vec3| {
+                oracle_point_triangle(x, &m.triangle(t).map(|v| p.transform_point(v)))
+            };
+            for (x, on) in [
+                (c.point1, on(m1, &p1, c.triangle1, c.point1)),
+                (c.point2, on(m2, &p2, c.triangle2, c.point2)),
+            ] {
+                assert!(
+                    on <= 1e-6 * delta + rounding,
+                    "{label}: contact point {x} is {on} off its triangle (delta {delta})"
+                );
+            }
+            assert_rel(
+                (c.point2 - c.point1).length(),
+                c.distance,
+                1e-9,
+                rounding,
+                &format!("{label}: the contact points' distance"),
+            );
+            assert!(
+                c.distance >= bd * (1.0 - 1e-9) - rounding,
+                "{label}: contact distance {} below the meshes' {bd}",
+                c.distance
+            );
+            assert!(
+                c.distance <= delta * (1.0 + 1e-9) + rounding,
+                "{label}: contact distance {} above delta {delta}",
+                c.distance
             );
             if let Some((_, hi)) = first {
                 assert!(

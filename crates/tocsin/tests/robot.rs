@@ -540,10 +540,30 @@ fn random_chains_against_dense_sampling() {
                     d <= tol * (1.0 + 1e-9),
                     "case {case}: false positive, distance {d} > {tol}"
                 );
+                // The contact pair's points: as far apart as the distance reported, which is
+                // within the tolerance and at least the robot's.
                 assert!(
-                    (c.distance - d).abs() <= 1e-9,
-                    "case {case}: reported distance {} vs {d}",
+                    c.distance >= d - 1e-9 && c.distance <= tol * (1.0 + 1e-9),
+                    "case {case}: contact distance {} vs {d} (tolerance {tol})",
                     c.distance
+                );
+                assert!(((c.point2 - c.point1).length() - c.distance).abs() <= 1e-9);
+                // The closest points: the same contact, at the exact distance.
+                let closest = RobotOptions {
+                    witnesses: tocsin::Witnesses::Closest,
+                    ..opts
+                };
+                let e = query::time_of_contact(&robot, &q0, &q1, &scene, &closest)
+                    .unwrap()
+                    .expect("the same advancement");
+                assert_eq!(
+                    (e.time, &e.object1, &e.object2),
+                    (c.time, &c.object1, &c.object2)
+                );
+                assert!(
+                    (e.distance - d).abs() <= 1e-9,
+                    "case {case}: reported distance {} vs {d}",
+                    e.distance
                 );
                 if c.self_collision {
                     self_hits += 1;

@@ -180,8 +180,10 @@ class ContactResult:
     """When and where two moving meshes first come within the tolerance.
 
     `time` is no later than the first collision, and the distance there is at most the
-    tolerance. The normal points from body 1 to body 2: the direction between the closest
-    points where that is determined; at a distance below rounding (1e-10 of the scene scale),
+    tolerance. point1 and point2 are the closest points of the triangle pair that ended the
+    advancement (within the tolerance; the meshes' distance is at most `distance`), or with
+    time_of_contact(..., closest=True) the meshes' closest points and exact distance. The normal
+    points from body 1 to body 2: the direction between the points where that is determined; at a distance below rounding (1e-10 of the scene scale),
     the direction at the last advancement step where the meshes were clearly apart; when the
     meshes start in contact, the normal of triangle1 turned towards triangle2 (a convention).
     """
@@ -191,16 +193,17 @@ class ContactResult:
         """Time of contact in [0, 1], no later than the first collision."""
     @property
     def point1(self) -> npt.NDArray[np.float64]:
-        """Closest point on mesh 1 at `time`, world frame, shape (3,)."""
+        """Point of mesh 1 at `time` (the contact pair's, or the closest), world frame, shape (3,)."""
     @property
     def point2(self) -> npt.NDArray[np.float64]:
-        """Closest point on mesh 2 at `time`, world frame, shape (3,)."""
+        """Point of mesh 2 at `time` (the contact pair's, or the closest), world frame, shape (3,)."""
     @property
     def normal(self) -> npt.NDArray[np.float64]:
         """Unit normal from body 1 to body 2, world frame, shape (3,)."""
     @property
     def distance(self) -> float:
-        """Distance at `time`, model units, at most the tolerance."""
+        """Distance between point1 and point2, model units, at most the tolerance: the meshes'
+        distance at `time` with closest=True, an upper bound on it otherwise."""
     @property
     def triangle1(self) -> int:
         """Triangle of mesh 1 holding point1."""
@@ -222,6 +225,7 @@ def time_of_contact(
     motion2: Motion,
     tolerance: Optional[float] = None,
     max_iterations: Optional[int] = None,
+    closest: bool = False,
 ) -> Optional[ContactResult]:
     """First time of contact of mesh1 moving by motion1 and mesh2 moving by motion2 over t in
     [0, 1]. Returns a ContactResult whenever the meshes come within tolerance / 2 of each other
@@ -229,6 +233,9 @@ def time_of_contact(
     either in between. The tolerance defaults to 1e-3 of the smaller bounding radius (raised
     for degenerate meshes). Raises IterationLimitError when max_iterations (default 1000) runs
     out first: that is no contact, and the motion is only known free up to its time_reached.
+    The points reported are those of the triangle pair that ended the advancement (within the
+    tolerance, its distance the one reported); closest=True reports the meshes' closest points
+    and exact distance at that time instead, for one exact distance query more.
     The GIL is released."""
 
 def motion_is_free(
@@ -271,6 +278,7 @@ def _time_of_contact_batch(
     kind: str,
     tolerance: Optional[float] = None,
     max_iterations: Optional[int] = None,
+    closest: bool = False,
 ) -> tuple[
     npt.NDArray[np.float64],
     npt.NDArray[np.float64],
@@ -374,8 +382,10 @@ class Robot:
         tolerance: Optional[float] = None,
         max_iterations: Optional[int] = None,
         cache: Optional[RobotCache] = None,
+        closest: bool = False,
     ) -> Optional[RobotContact]:
-        """First time of contact along q0 -> q1 with itself or the scene (exact)."""
+        """First time of contact along q0 -> q1 with itself or the scene (exact); the contact
+        pair's points, or with closest=True the two objects' closest points."""
     def path_is_free(
         self,
         q0: ArrayLike,
@@ -415,6 +425,7 @@ class Robot:
         scene: Optional[Scene] = None,
         tolerance: Optional[float] = None,
         max_iterations: Optional[int] = None,
+        closest: bool = False,
     ) -> list[Optional[RobotContact]]:
         """time_of_contact for every segment, on all cores."""
 
@@ -448,16 +459,17 @@ class RobotContact:
         """Whether object2 is part of the robot."""
     @property
     def point1(self) -> npt.NDArray[np.float64]:
-        """Closest point on object1, world frame, shape (3,)."""
+        """Point of object1 (the contact pair's, or the closest), world frame, shape (3,)."""
     @property
     def point2(self) -> npt.NDArray[np.float64]:
-        """Closest point on object2, world frame, shape (3,)."""
+        """Point of object2 (the contact pair's, or the closest), world frame, shape (3,)."""
     @property
     def normal(self) -> npt.NDArray[np.float64]:
         """Unit normal from object1 to object2, world frame, shape (3,)."""
     @property
     def distance(self) -> float:
-        """Distance between the two objects at time (model units, at most the tolerance)."""
+        """Distance between point1 and point2 (model units, at most the tolerance): the objects'
+        distance at time with closest=True, an upper bound on it otherwise."""
     @property
     def iterations(self) -> int:
         """Advancement iterations of the pair that made the contact."""

@@ -42,7 +42,7 @@ use crate::motion::Motion;
 use crate::query::collide::collide;
 use crate::query::contact_time::probe::{advance_probed, probe_span, Probed, PROBE_AFTER};
 use crate::query::contact_time::{
-    advance_paths, finish, ContactCache, ContactStatus, Path, Span, NORMAL_RESOLUTION,
+    advance_paths, finish, ContactCache, ContactStatus, Path, Span, Witnesses, NORMAL_RESOLUTION,
 };
 use crate::TriMesh;
 
@@ -122,6 +122,10 @@ pub struct RobotOptions {
     /// none lands in the collision the advancement has to converge to it (docs/BENCHMARKS.md,
     /// tenth session).
     pub cull_depth: u32,
+    /// Which points a contact reports, as the rigid query's ([`Witnesses`]): by default the
+    /// pair's triangles that ended its advancement; [`Witnesses::Closest`] the two objects'
+    /// closest points at the time, by one exact distance query more.
+    pub witnesses: Witnesses,
 }
 
 impl Default for RobotOptions {
@@ -130,6 +134,7 @@ impl Default for RobotOptions {
             tolerance: None,
             max_iterations: 1000,
             cull_depth: 4,
+            witnesses: Witnesses::Contact,
         }
     }
 }
@@ -145,13 +150,15 @@ pub struct RobotContact {
     pub object2: String,
     /// Whether `object2` is part of the robot.
     pub self_collision: bool,
-    /// Closest point on `object1`, world frame.
+    /// Point of `object1`, world frame: of the contact pair, or the objects' closest
+    /// ([`RobotOptions::witnesses`]).
     pub point1: Vec3,
-    /// Closest point on `object2`, world frame.
+    /// Point of `object2`, world frame, as `point1`.
     pub point2: Vec3,
     /// Unit normal from `object1` to `object2`, world frame (rules of the rigid query).
     pub normal: Vec3,
-    /// Distance between the two objects at `time` (model units, >= 0, at most the tolerance).
+    /// Distance between `point1` and `point2` (model units, >= 0, at most the tolerance): the
+    /// objects' distance at `time` with [`Witnesses::Closest`], at least it otherwise.
     pub distance: f64,
     /// Advancement iterations of the pair that made the contact.
     pub iterations: usize,
@@ -179,6 +186,8 @@ struct Segment<'r> {
     max_iterations: usize,
     /// Levels of the binary time subdivision used by the culling.
     depth: u32,
+    /// Which points a contact reports.
+    witnesses: Witnesses,
 }
 
 /// The robot's body poses and its objects' root volumes in the world at the middle of each
@@ -326,6 +335,7 @@ impl<'r> Segment<'r> {
             delta: robot_tolerance(robot, options),
             max_iterations: options.max_iterations,
             depth: options.cull_depth,
+            witnesses: options.witnesses,
         })
     }
 
@@ -671,7 +681,7 @@ impl<'r> Segment<'r> {
             if time > 0.0 && ends.status == ContactStatus::StartedInContact {
                 ends.status = ContactStatus::Converged;
             }
-            let c = finish(m1, p1, m2, p2, ends, &mut cache);
+            let c = finish(m1, p1, m2, p2, ends, &mut cache, self.witnesses);
             // Relative paths give points in the ancestor body's frame.
             let frame = if relative.is_some() {
                 let q: Vec<f64> = self

@@ -14,9 +14,13 @@
 //! returns `t = 0` with [`ContactStatus::StartedInContact`]. Reaching the iteration cap first is
 //! an error ([`ContactError::IterationLimit`]), never a contact.
 //!
+//! Witnesses ([`Witnesses`]): by default the closest points of the triangle pair that ended the
+//! advancement, which is within `delta` there (a contact, at the cost of one triangle pair);
+//! on request the meshes' closest points, by one exact distance query warm-started from it.
+//!
 //! Normal: the unit direction from `point1` to `point2` where that direction is determined, that
 //! is where the distance is above [`NORMAL_RESOLUTION`] of the scene scale (computed in body 1's
-//! frame from the closest triangle pair, so that it stays unit and exact far from the origin,
+//! frame from the reported triangle pair, so that it stays unit and exact far from the origin,
 //! where the world points round); below it (a tolerance near
 //! rounding) the direction between the closest points at the iterate before, where the meshes
 //! were clearly apart; at a start in contact, the normal of `triangle1` turned towards
@@ -91,6 +95,8 @@ pub struct ContactOptions {
     pub tolerance: Option<f64>,
     /// Largest number of advancement iterations (>= 1). Default 1000.
     pub max_iterations: usize,
+    /// Which points a returned contact reports. Default [`Witnesses::Contact`].
+    pub witnesses: Witnesses,
 }
 
 impl Default for ContactOptions {
@@ -98,8 +104,25 @@ impl Default for ContactOptions {
         Self {
             tolerance: None,
             max_iterations: 1000,
+            witnesses: Witnesses::Contact,
         }
     }
+}
+
+/// Which points a time of contact reports (both at the returned time, world frame).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Witnesses {
+    /// The closest points of the triangle pair that ended the advancement: a pair within the
+    /// tolerance, where the meshes come into contact, its distance the `distance` reported (the
+    /// meshes' distance is at most that). Costs nothing more than the advancement. Where that
+    /// pair touches to rounding, or the meshes touch at the start, the closest points
+    /// ([`Witnesses::Closest`]) are reported instead.
+    #[default]
+    Contact,
+    /// The meshes' closest points at the returned time and their exact distance: one exact
+    /// distance query more, warm-started from the pair above (15 to 25% of a knot's time of
+    /// contact; docs/BENCHMARKS.md).
+    Closest,
 }
 
 /// How a contact query ended.
@@ -117,15 +140,17 @@ pub enum ContactStatus {
 pub struct ContactTime {
     /// Time of contact in `[0, 1]` (the motions' parameter), no later than the first collision.
     pub time: f64,
-    /// Closest point on mesh 1 at `time`, world frame.
+    /// Point of mesh 1 at `time`, world frame: of the contact pair, or the meshes' closest
+    /// ([`Witnesses`]).
     pub point1: Vec3,
-    /// Closest point on mesh 2 at `time`, world frame.
+    /// Point of mesh 2 at `time`, world frame, as `point1`.
     pub point2: Vec3,
     /// Unit normal from body 1 to body 2, world frame: the direction of `point2 - point1` (to
     /// rounding `(point2 - point1) / distance`; computed in body 1's frame), or where
     /// the distance is below rounding, the rule in the module docs.
     pub normal: Vec3,
-    /// Distance between the meshes at `time` (model units, at most the tolerance).
+    /// Distance between `point1` and `point2` (model units, at most the tolerance): the meshes'
+    /// distance at `time` with [`Witnesses::Closest`], at least it otherwise.
     pub distance: f64,
     /// Triangle of mesh 1 holding `point1`.
     pub triangle1: usize,
@@ -212,7 +237,7 @@ pub fn time_of_contact_with_cache(
     let (path1, path2) = (Path::Rigid(motion1), Path::Rigid(motion2));
     Ok(
         advance(mesh1, motion1, mesh2, motion2, options, cache, false)?
-            .map(|ends| finish(mesh1, path1, mesh2, path2, ends, cache)),
+            .map(|ends| finish(mesh1, path1, mesh2, path2, ends, cache, options.witnesses)),
     )
 }
 
@@ -220,8 +245,7 @@ pub fn time_of_contact_with_cache(
 /// the tolerance over all of `[0, 1]`, `false` whenever they come closer than half of it (in
 /// particular whenever they collide), either in between; the same answer as
 /// `time_of_contact(..).is_none()`. The question a path planner asks: it computes no
-/// witnesses, which saves the final exact distance (about 40% of a knot34k time of contact),
-/// stops at the first iteration within the tolerance, and settles colliding motions with exact
+/// witnesses, stops at the first iteration within the tolerance, and settles colliding motions with exact
 /// collision tests at a few times before the advancement converges to the contact
 /// (`probe.rs`'s schedule: the end, the middle, then evenly spaced times of the rest when the
 /// advancement is slow). A collision found so is a real one, so the answer is the same.
@@ -366,6 +390,7 @@ fn cast_translation(
     cache.pair = Some(hit.pair);
     Some(Some(Ends {
         time: hit.time,
+        within: Some(hit.pair),
         earlier: (hit.time > 0.0).then_some(0.0),
         resolution: NORMAL_RESOLUTION * scale,
         iterations: 1,
@@ -431,6 +456,7 @@ pub(crate) fn advance_paths(
             // Not reached without probes; were it, a collision at `time` is a contact.
             probe::Probed::Collides(time) => Some(Ends {
                 time,
+                within: None,
                 earlier: None,
                 resolution: span.resolution,
                 iterations: 0,
@@ -458,6 +484,7 @@ fn advance_core<const PROBING: bool>(
     if !span.start_free && probe::collides_at(mesh1, path1, mesh2, path2, span.start) {
         return Ok(Probed::Advanced(Some(Ends {
             time: span.start,
+            within: None,
             earlier: None,
             resolution,
             iterations: 0,
@@ -485,6 +512,7 @@ fn advance_core<const PROBING: bool>(
                 cache.pair = Some(pair);
                 return Ok(Probed::Advanced(Some(Ends {
                     time: t,
+                    within: Some(pair),
                     earlier,
                     resolution,
                     iterations: iteration,
@@ -604,13 +632,17 @@ fn each_motion<T: Send>(
 /// clearly apart, the scale below which a direction is noise, the count and the status.
 pub(crate) struct Ends {
     pub time: f64,
+    /// The leaf pair found within the tolerance at `time`, which ended the advancement (`None`
+    /// at a start in contact or a probe's collision).
+    within: Option<(u32, u32)>,
     earlier: Option<f64>,
     pub resolution: f64,
     pub iterations: usize,
     pub status: ContactStatus,
 }
 
-/// The result at `ends.time`: one exact distance query, warm-started from the last pair.
+/// The result at `ends.time`: the witnesses that `witnesses` asks for ([`Witnesses`]); the
+/// closest points take one exact distance query, warm-started from the last pair.
 pub(crate) fn finish(
     mesh1: &TriMesh,
     motion1: Path<'_>,
@@ -618,7 +650,13 @@ pub(crate) fn finish(
     motion2: Path<'_>,
     ends: Ends,
     cache: &mut ContactCache,
+    witnesses: Witnesses,
 ) -> ContactTime {
+    if witnesses == Witnesses::Contact && ends.status == ContactStatus::Converged {
+        if let Some(c) = pair_contact(mesh1, motion1, mesh2, motion2, &ends) {
+            return c;
+        }
+    }
     let closest = |time: f64, cache: &mut ContactCache| {
         let (p1, p2) = (motion1.pose_at(time), motion2.pose_at(time));
         let mut dcache = DistanceCache { pair: cache.pair };
@@ -663,6 +701,45 @@ pub(crate) fn finish(
         iterations: ends.iterations,
         status: ends.status,
     }
+}
+
+/// The contact at `ends.time` given by the leaf pair that ended the advancement within the
+/// tolerance: its closest points and distance, computed in body 1's frame (as
+/// [`pair_direction`] explains) and turned into the world. `None` without such a pair, or
+/// where it touches to rounding (`ends.resolution`): its direction would be noise, and
+/// [`finish`] asks the exact distance.
+fn pair_contact(
+    mesh1: &TriMesh,
+    motion1: Path<'_>,
+    mesh2: &TriMesh,
+    motion2: Path<'_>,
+    ends: &Ends,
+) -> Option<ContactTime> {
+    let (l1, l2) = ends.within?;
+    let (p1, p2) = (motion1.pose_at(ends.time), motion2.pose_at(ends.time));
+    let (bvh1, bvh2) = (mesh1.bvh(), mesh2.bvh());
+    let a = bvh1.leaf_triangles().get(l1 as usize)?;
+    let pos12 = p1.inv_mul(&p2);
+    let b = bvh2
+        .leaf_triangles()
+        .get(l2 as usize)?
+        .map(|v| pos12.transform_point(v));
+    let e = distance_triangle_triangle(a, &b);
+    if e.distance.is_nan() || e.distance <= ends.resolution {
+        return None;
+    }
+    let normal = (p1.rotation * (e.point2 - e.point1)).try_normalize()?;
+    Some(ContactTime {
+        time: ends.time,
+        point1: p1.transform_point(e.point1),
+        point2: p1.transform_point(e.point2),
+        normal,
+        distance: e.distance,
+        triangle1: bvh1.triangle_index(l1),
+        triangle2: bvh2.triangle_index(l2),
+        iterations: ends.iterations,
+        status: ends.status,
+    })
 }
 
 /// The unit direction from `d.point1` to `d.point2` (world frame), taken from the closest

@@ -116,7 +116,7 @@ use crate::query::collide::intersecting_leaves;
 use crate::query::contact_time::cast::triangle_window;
 use crate::query::contact_time::{
     advance_short_translation, effective_tolerance, finish, ContactCache, ContactOptions, Ends,
-    Path,
+    Path, Witnesses,
 };
 use crate::query::distance::{distance_triangle_triangle, intersect_triangle_triangle};
 use crate::query::penetration::convex;
@@ -545,6 +545,7 @@ fn complete(mesh1: &TriMesh, pose1: &Pose, mesh2: &TriMesh, p: Pending) -> Touch
         Path::Rigid(&p.motion),
         p.ends,
         &mut cache,
+        Witnesses::Closest,
     );
     Touch {
         translation: p.d * p.s0 * (1.0 - c.time),
