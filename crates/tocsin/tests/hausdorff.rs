@@ -215,3 +215,48 @@ fn copies_with_the_same_triangles_within_the_bound_of_dense_sampling() {
         }
     }
 }
+
+#[test]
+fn a_translated_copy_is_exactly_as_far_as_the_move() {
+    // Any soup against itself moved by `t`: no point moves farther than `|t|`, and the corner
+    // farthest along `t` is at least `|t|` from every point of the copy (which lies behind the
+    // plane through it, `|t|` back), so the Hausdorff distance is `|t|` exactly: an oracle
+    // independent of the search. Random soups with degenerate and repeated triangles, knots,
+    // tiny and huge scales, world poses turned as well (where the copy is not recognised as a
+    // pure translation of the frame and the search bounds it as any copy).
+    let mut rng = common::rng(5);
+    let mut cases: Vec<(TriMesh, f64)> = vec![(mesh::torus_knot(60, 6).unwrap(), 1.0)];
+    for scale in [1e-6, 1.0, 1e6] {
+        cases.push((common::random_soup(&mut rng, 30, scale), scale));
+    }
+    for (k, (m, scale)) in cases.iter().enumerate() {
+        for turned in [false, true] {
+            let base = if turned {
+                common::random_pose(&mut rng, *scale)
+            } else {
+                Pose::IDENTITY
+            };
+            let t = Vec3::new(0.3, -0.2, 0.1) * (*scale * (1 + k) as f64 * 0.2);
+            let moved = Pose {
+                translation: base.translation + t,
+                ..base
+            };
+            let e = 1e-4 * m.bounding_radius();
+            for symmetric in [false, true] {
+                let r = hausdorff_distance(m, &base, m, &moved, e, symmetric).unwrap();
+                let exact = t.length();
+                let rounding = 1e-12 * (exact + base.translation.length() + *scale);
+                assert!(
+                    r.distance <= exact + rounding && exact <= r.upper_bound + rounding,
+                    "case {k} (turned {turned}): [{}, {}] does not hold {exact}",
+                    r.distance,
+                    r.upper_bound
+                );
+                assert!(r.upper_bound - r.distance <= e * (1.0 + 1e-9));
+                let d =
+                    brute_point_distance(r.point1, m, if r.from_first { &moved } else { &base });
+                assert!((d - r.distance).abs() <= rounding, "case {k}: witness");
+            }
+        }
+    }
+}

@@ -173,6 +173,50 @@ impl Bvh {
     pub fn triangle_index(&self, position: u32) -> usize {
         self.leaf_ids[position as usize] as usize
     }
+
+    /// A triangle corner farthest along `direction` (mesh frame; any length): depth first over
+    /// the hierarchy, the larger child first, a subtree dropped where its volume's support
+    /// along `direction` (the rectangle's corners' and the sphere's) is no farther than the
+    /// best corner found. A volume's rounding can only drop a corner tied with the best to a
+    /// few units in the last place. `None` for a direction that is not finite.
+    pub fn support(&self, direction: Vec3) -> Option<Vec3> {
+        if !direction.is_finite() {
+            return None;
+        }
+        let reach = |r: &Rss| {
+            r.center.dot(direction)
+                + r.half_lengths[0] * r.axes.x_axis.dot(direction).abs()
+                + r.half_lengths[1] * r.axes.y_axis.dot(direction).abs()
+                + r.radius * direction.length()
+        };
+        let mut best = (f64::NEG_INFINITY, None);
+        let mut stack = vec![0u32];
+        while let Some(i) = stack.pop() {
+            let node = &self.nodes[i as usize];
+            if reach(&node.rss) <= best.0 {
+                continue;
+            }
+            if node.is_leaf() {
+                for v in self.leaf_corners[node.leaf_position() as usize] {
+                    let along = v.dot(direction);
+                    if along > best.0 || best.1.is_none() {
+                        best = (along, Some(v));
+                    }
+                }
+                continue;
+            }
+            let (l, r) = node.children(i);
+            let (near, far) =
+                if reach(&self.nodes[l as usize].rss) >= reach(&self.nodes[r as usize].rss) {
+                    (l, r)
+                } else {
+                    (r, l)
+                };
+            stack.push(far);
+            stack.push(near);
+        }
+        best.1
+    }
 }
 
 /// Child pairs whose subtrees both hold at most this many triangles are also bounded, in the
@@ -389,4 +433,55 @@ impl CornerColumns {
 fn rows(columns: &Columns, range: std::ops::Range<usize>) -> [&[f32]; 3] {
     let [x, y, z] = columns;
     [&x[range.clone()], &y[range.clone()], &z[range]]
+}
+
+#[cfg(test)]
+mod support_tests {
+    use super::TestRng;
+    use crate::math::Vec3;
+    use crate::{mesh, TriMesh};
+
+    /// The hierarchy's support corner reaches as far along the direction as the farthest of
+    /// all corners (brute force), on random soups with degenerate and repeated triangles at
+    /// tiny, unit and huge scales, and on a knot.
+    #[test]
+    fn support_reaches_the_farthest_corner() {
+        let mut rng = TestRng(7);
+        let mut meshes = vec![mesh::torus_knot(100, 8).expect("knot")];
+        for (k, scale) in [1e-9, 1.0, 1e9].into_iter().enumerate() {
+            let mut v: Vec<Vec3> = (0..60)
+                .map(|_| Vec3::new(rng.next(), rng.next(), rng.next()) * scale)
+                .collect();
+            v.push(v[0]); // a repeated vertex
+            let mut t: Vec<[u32; 3]> = (0..40)
+                .map(|_| {
+                    let mut i = || (rng.next() * 61.0) as u32 % 61;
+                    let (a, b) = (i(), i());
+                    [a, b, (a + 1 + k as u32) % 61]
+                })
+                .collect();
+            t.push([0, 0, 0]); // a point
+            t.push([1, 2, 1]); // a segment
+            t.push(t[0]); // a repeated triangle
+            meshes.push(TriMesh::new(v, t).expect("soup"));
+        }
+        for m in &meshes {
+            let corners = m.bvh().leaf_triangles();
+            for _ in 0..50 {
+                let d = Vec3::new(rng.next() - 0.5, rng.next() - 0.5, rng.next() - 0.5);
+                let brute = corners
+                    .iter()
+                    .flatten()
+                    .map(|v| v.dot(d))
+                    .fold(f64::NEG_INFINITY, f64::max);
+                let got = m.bvh().support(d).expect("a finite direction");
+                assert!(corners.iter().flatten().any(|v| *v == got));
+                assert_eq!(got.dot(d), brute, "direction {d}");
+            }
+        }
+        assert!(meshes[0]
+            .bvh()
+            .support(Vec3::new(f64::NAN, 0.0, 1.0))
+            .is_none());
+    }
 }

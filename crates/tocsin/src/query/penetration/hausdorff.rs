@@ -101,12 +101,15 @@
 //! Against a copy only translated (the same vertices, `R = I`), every point moved by `t`, the
 //! copy bound is `|t|` everywhere, and the search ends once the lower bound is within the error
 //! of it; nearly every point is near the maximum but few within a fine error of it, so the
-//! search sampled most of the surface to find one. After `SEED_AFTER` (8) pieces it samples
-//! the centroids of the `TRANSLATED_SEEDS` (16) triangles whose normals lie most nearly along
-//! `t` (one pass over the triangles; exact distances, so the lower bound stays attained):
-//! knot2.8k at 1e-3 / 1e-4 R 0.71M / 10.6M -> 0.62M / 0.96M instructions, knot34k 5.2M / 34.3M
-//! -> 4.2M / 4.2M, the bunny 13.3M / 14.9M -> 7.6M / 15.0M; searches that end before the eighth
-//! piece (1e-2 R) and turned copies unchanged.
+//! search sampled most of the surface to find one. But the corner `a` of A farthest along `t`
+//! reaches it: the copy lies behind the plane `x . t = a . t - |t|^2`, so every point of it is
+//! at least `|t|` from `a`, and the Hausdorff distance is `|t|` exactly. The search samples
+//! that corner first (found by a branch and bound over A's hierarchy, [`Bvh::support`]; an
+//! exact distance, so the lower bound stays attained) and ends at the root at any error:
+//! symmetric, at 1e-2 / 1e-3 / 1e-4 R, knot2.8k 0.27M / 0.62M / 0.96M -> 0.06M instructions,
+//! knot34k 0.12M / 4.2M / 4.2M -> 0.09M, the bunny 0.76M / 7.6M / 15.0M -> 0.05M (the
+//! thirtieth session sampled the centroids of the 16 triangles facing the move after 8 pieces
+//! instead; docs/BENCHMARKS.md). Turned copies do not have it.
 
 use std::collections::BinaryHeap;
 
@@ -379,56 +382,29 @@ impl OneSided<'_> {
         probed >= SKIP_AFTER && settled * SKIP_RATE < probed
     }
 
-    /// Against a copy only translated by `t` (the same vertices), every point of A moved by
-    /// `t`, so no distance exceeds `|t|`, and it is nearly reached where the surface faces the
-    /// move: the centroids of the [`TRANSLATED_SEEDS`] triangles whose normals lie most nearly
-    /// along `t` are sampled (exact distances, so the lower bound stays attained), which
-    /// raises the lower bound to within the error of the copy bound when the search alone would
-    /// sample most of the surface to find such a point.
+    /// Against a copy only translated by `t` (the same vertices, B = A - t in B's frame, where
+    /// A's points sit), no distance exceeds `|t|`, and the corner of A farthest along `t`
+    /// reaches it: every point `x` of B has `x . t <= a . t - |t|^2` for that corner `a`, so
+    /// `|a - x| >= |t|`. That corner ([`Bvh::support`], a branch and bound over A's hierarchy)
+    /// is sampled (an exact distance, so the lower bound stays attained), which raises the lower
+    /// bound to the copy bound, and the search ends at once at any error.
     fn seed_translated(&mut self, t: Vec3) {
-        let leaves = self.a.leaf_triangles();
-        // The best few by `(t . n)^2 / |n|^2`, largest first (insertion into a short list).
-        let mut best = [(f64::NEG_INFINITY, 0u32); TRANSLATED_SEEDS];
-        for (l, c) in leaves.iter().enumerate() {
-            let n = (c[1] - c[0]).cross(c[2] - c[0]);
-            let len2 = n.length_squared();
-            if len2 > 0.0 {
-                let along = t.dot(n);
-                let score = along * along / len2;
-                if score > best[TRANSLATED_SEEDS - 1].0 {
-                    let mut i = TRANSLATED_SEEDS - 1;
-                    while i > 0 && best[i - 1].0 < score {
-                        best[i] = best[i - 1];
-                        i -= 1;
-                    }
-                    best[i] = (score, l as u32);
-                }
-            }
-        }
         #[cfg(test)]
         SEEDED.with(|n| n.set(n.get() + 1));
-        for &(score, l) in &best {
-            if score > f64::NEG_INFINITY {
-                let c = leaves[l as usize];
-                let p = self.a_to_b.transform_point((c[0] + c[1] + c[2]) / 3.0);
-                self.sample(p, 0);
-            }
+        if let Some(a) = self.a.support(t) {
+            let p = self.a_to_b.transform_point(a);
+            self.sample(p, 0);
         }
     }
 
     fn run(&mut self) -> f64 {
         let mut heap = BinaryHeap::new();
-        let translated = self.copies.as_ref().and_then(Copies::translation);
-        let mut pops = 0;
+        if let Some(t) = self.copies.as_ref().and_then(Copies::translation) {
+            self.seed_translated(t);
+        }
         let root = self.node_piece(0, [0, 0], None);
         heap.push(root);
         while let Some(piece) = heap.pop() {
-            pops += 1;
-            if pops == SEED_AFTER {
-                if let Some(t) = translated {
-                    self.seed_translated(t);
-                }
-            }
             if piece.upper <= self.lower + self.max_error {
                 // The largest bound left is within the error: done.
                 return piece.upper.max(self.lower).max(self.dropped);
@@ -511,15 +487,6 @@ impl OneSided<'_> {
         self.lower.max(self.dropped)
     }
 }
-
-/// Pieces popped before a search against a translated copy samples the triangles facing the
-/// move ([`OneSided::seed_translated`]): a search that the copy bound ends at once (coarse
-/// errors) does not pay for the pass over the triangles.
-const SEED_AFTER: usize = 8;
-
-/// Triangles facing the move sampled against a translated copy: on knot34k at 1e-4 R, 8 did
-/// not reach the maximum's neighbourhood and 16 did.
-const TRANSLATED_SEEDS: usize = 16;
 
 /// A node's size class: the floor of log2 of its triangle count (0 to 31).
 fn size_class(triangles: usize) -> usize {
@@ -749,11 +716,12 @@ mod tests {
         }
     }
 
-    /// Against a copy only translated, at a fine error, the search samples the triangles
-    /// facing the move and ends with the same answer as without the correspondence bounds
-    /// (and without that sampling); against a turned copy it does not sample them.
+    /// Against a copy only translated, at a fine error, the search samples the corner farthest
+    /// along the move, which reaches the move's length, and ends with the same answer as
+    /// without the correspondence bounds (and without that sample); against a turned copy it
+    /// does not sample it.
     #[test]
-    fn translated_copies_sample_the_triangles_facing_the_move() {
+    fn translated_copies_sample_the_corner_farthest_along_the_move() {
         let m = mesh::torus_knot(100, 8).expect("knot");
         let e = 1e-4 * m.bounding_radius();
         let turned = Pose::from_axis_angle(Vec3::Z, 0.01, Vec3::new(0.3, 0.1, 0.05));
@@ -775,6 +743,12 @@ mod tests {
             assert_eq!(none, 0);
             assert_eq!(seeded > 0, k == 0, "pose {k}: {seeded} seeded searches");
             agree(&with, &without, e, &format!("pose {k}"));
+            if k == 0 {
+                let t = pose.translation.length();
+                assert!(
+                    (with.distance - t).abs() <= 1e-14 && (with.upper_bound - t).abs() <= 1e-14
+                );
+            }
         }
     }
 }
