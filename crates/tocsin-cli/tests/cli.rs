@@ -54,34 +54,31 @@ fn collide_and_within() {
 
 #[test]
 fn contact_time_prints_json() {
-    let (code, out, err) = tocsin(&[
-        "contact-time",
-        "builtin:box",
-        "builtin:box",
-        "--motion1",
-        "translation:3,0,0:-1,0,0",
-        "--tolerance",
-        "1e-6",
-    ]);
-    assert_eq!(code, 0, "{err}");
-    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    // A box driven into another, with the contact pair's points or (`--closest`) the closest.
+    let boxes = |closest: bool| {
+        let mut args = vec![
+            "contact-time",
+            "builtin:box",
+            "builtin:box",
+            "--motion1",
+            "translation:3,0,0:-1,0,0",
+            "--tolerance",
+            "1e-6",
+        ];
+        if closest {
+            args.push("--closest");
+        }
+        let (code, out, err) = tocsin(&args);
+        assert_eq!(code, 0, "{err}");
+        serde_json::from_str::<serde_json::Value>(&out).unwrap()
+    };
+    let v = boxes(false);
     assert_eq!(v["contact"], true);
     let t = v["time"].as_f64().unwrap();
     assert!(t <= 0.5 && t > 0.5 - 1e-6, "{t}");
     // `--closest`: the same time, the meshes' closest points (no farther apart than the
     // contact pair's).
-    let (code, out, err) = tocsin(&[
-        "contact-time",
-        "builtin:box",
-        "builtin:box",
-        "--motion1",
-        "translation:3,0,0:-1,0,0",
-        "--tolerance",
-        "1e-6",
-        "--closest",
-    ]);
-    assert_eq!(code, 0, "{err}");
-    let c: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let c = boxes(true);
     assert_eq!(c["time"], v["time"]);
     let (dc, dv) = (
         c["distance"].as_f64().unwrap(),
