@@ -245,8 +245,8 @@ pub fn time_of_contact_with_cache(
 /// the tolerance over all of `[0, 1]`, `false` whenever they come closer than half of it (in
 /// particular whenever they collide), either in between; the same answer as
 /// `time_of_contact(..).is_none()`. The question a path planner asks: it computes no
-/// witnesses, stops at the first iteration within the tolerance, and settles colliding motions with exact
-/// collision tests at a few times before the advancement converges to the contact
+/// witnesses, stops at the first iteration within the tolerance, and settles colliding motions
+/// with exact collision tests at a few times before the advancement converges to the contact
 /// (`probe.rs`'s schedule: the end, the middle, then evenly spaced times of the rest when the
 /// advancement is slow). A collision found so is a real one, so the answer is the same.
 ///
