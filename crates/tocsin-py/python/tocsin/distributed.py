@@ -318,6 +318,7 @@ def time_of_contact_batch(
     kind: str = "interp",
     tolerance: Optional[float] = None,
     max_iterations: Optional[int] = None,
+    closest: bool = False,
     *,
     chunk_size: Optional[int] = None,
     address: Optional[str] = None,
@@ -325,8 +326,9 @@ def time_of_contact_batch(
     max_retries: int = 3,
 ) -> _batch.ContactBatch:
     """``tocsin.time_of_contact_batch`` on the Ray cluster: identical results, in input order."""
+    options = dict(kind=kind, tolerance=tolerance, max_iterations=max_iterations, closest=closest)
     return _motions_run(_batch.time_of_contact_batch, (mesh1, mesh2), (starts1, ends1), (starts2, ends2),
-                        (kind, tolerance, max_iterations), (chunk_size, address, progress, max_retries))
+                        options, (chunk_size, address, progress, max_retries))
 
 
 def motion_is_free_batch(
@@ -346,17 +348,18 @@ def motion_is_free_batch(
     max_retries: int = 3,
 ) -> _batch.FreeBatch:
     """``tocsin.motion_is_free_batch`` on the Ray cluster: identical results, in input order."""
+    options = dict(kind=kind, tolerance=tolerance, max_iterations=max_iterations)
     return _motions_run(_batch.motion_is_free_batch, (mesh1, mesh2), (starts1, ends1), (starts2, ends2),
-                        (kind, tolerance, max_iterations), (chunk_size, address, progress, max_retries))
+                        options, (chunk_size, address, progress, max_retries))
 
 
 def _motions_run(fn, meshes, body1, body2, options, running):
     """A motion batch (``fn``, the local one) run as chunks of its rows: body 1's and body 2's
-    (starts, ends), the motions' (kind, tolerance, max_iterations), and the run's (chunk_size,
-    address, progress, max_retries)."""
+    (starts, ends), the batch's keyword options (kind, tolerance, max_iterations, ...), and the
+    run's (chunk_size, address, progress, max_retries)."""
     starts2, ends2 = _batch._body2_motions(*body2)
     rows, fixed, count = _split({"starts1": body1[0], "ends1": body1[1], "starts2": starts2, "ends2": ends2})
-    fixed.update(dict(zip(("kind", "tolerance", "max_iterations"), options)))
+    fixed.update(options)
     return _run(fn, {"mesh1": meshes[0], "mesh2": meshes[1]}, rows, fixed, count, *running)
 
 
@@ -486,7 +489,8 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
       ``mesh1_triangles`` (M, 3), the same for ``mesh2``;
     - distance, collide: ``poses1`` (K, 4, 4), ``poses2`` (K, 4, 4) or (4, 4);
     - time_of_contact: ``starts1``, ``ends1``, optional ``starts2``, ``ends2``, ``kind``
-      ("interp", "screw", "translation"), optional ``tolerance``;
+      ("interp", "screw", "translation"), optional ``tolerance`` and ``closest`` (the closest
+      points rather than the contact pair's);
     - paths_are_free: ``urdf`` (a path), optional ``srdf``, ``q0s`` and ``q1s`` (N, dof), and
       obstacles ``obstacle0_vertices``, ``obstacle0_triangles``, ``obstacle0_pose``, ...
 
@@ -519,6 +523,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
                 data["ends2"] if "ends2" in data else None,
                 kind=str(data["kind"]) if "kind" in data else "interp",
                 tolerance=float(data["tolerance"]) if "tolerance" in data else None,
+                closest=bool(data["closest"]) if "closest" in data else False,
                 **opts,
             )
             out = r._asdict()
