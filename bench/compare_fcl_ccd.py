@@ -2,8 +2,9 @@
 
 Per model and motion kind: body 1 driven through body 2 (fixed at the identity) with a 30 to 90
 degree rotation (none for translations), and near misses with a closest approach of about 1%
-of the bounding radius. Methods: tocsin.time_of_contact (the contact pair's points, the default) and with
-closest=True (the closest points at the time, one exact distance query more); tocsin.distance at the start pose (the issue's yardstick: a
+of the bounding radius. Methods: tocsin.time_of_contact (the closest points at the time, the default) and with
+contact_pair=True (the points of the triangle pair that ended the advancement, without the final
+exact distance query); tocsin.distance at the start pose (the issue's yardstick: a
 time of contact at most 3 of them); fcl.continuousCollide with
 conservative advancement and with the naive solver at 100 samples (motion types CCDM_TRANS,
 CCDM_LINEAR = interp with centre 0, CCDM_SCREW); tocsin.motion_is_free (the yes/no question,
@@ -147,9 +148,9 @@ def main():
             def ours(mo, s, e):
                 return lambda: (lambda r: None if r is None else r.time)(tocsin.time_of_contact(mesh, mo, mesh, stay))
 
-            def closest(mo, s, e):
+            def contact_pair(mo, s, e):
                 return lambda: (lambda r: None if r is None else r.time)(
-                    tocsin.time_of_contact(mesh, mo, mesh, stay, closest=True)
+                    tocsin.time_of_contact(mesh, mo, mesh, stay, contact_pair=True)
                 )
 
             def is_free(mo, s, e):
@@ -158,7 +159,7 @@ def main():
             def start_distance(mo, s, e):
                 return lambda: tocsin.distance(mesh, s, mesh, still).distance
 
-            methods = {"tocsin": ours, "tocsin closest points": closest, "tocsin motion_is_free": is_free, "tocsin distance at the start": start_distance}
+            methods = {"tocsin": ours, "tocsin contact pair": contact_pair, "tocsin motion_is_free": is_free, "tocsin distance at the start": start_distance}
             for label, solver, iters in (("fcl CA", fcl.CCDSolverType.CCDC_CONSERVATIVE_ADVANCEMENT, 100), ("fcl naive 100", fcl.CCDSolverType.CCDC_NAIVE, 100)):
                 req = fcl.ContinuousCollisionRequest(num_max_iterations=iters, ccd_motion_type=fcl_kind, ccd_solver_type=solver)
                 o2 = fcl.CollisionObject(fm, fcl.Transform())

@@ -71,11 +71,11 @@ struct MotionArgs {
     /// Iteration cap.
     #[arg(long, default_value_t = 1000)]
     max_iterations: usize,
-    /// Report the meshes' closest points and exact distance at the time of contact (one exact
-    /// distance query more) instead of the contact pair's points, which are within the
-    /// tolerance.
+    /// Report the points of the triangle pair that ended the advancement (within the
+    /// tolerance; their distance is at least the meshes') instead of the meshes' closest points,
+    /// which take one exact distance query more.
     #[arg(long)]
-    closest: bool,
+    contact_pair: bool,
 }
 
 impl MotionArgs {
@@ -90,10 +90,10 @@ impl MotionArgs {
         let opts = ContactOptions {
             tolerance: self.tolerance,
             max_iterations: self.max_iterations,
-            witnesses: if self.closest {
-                Witnesses::Closest
-            } else {
+            witnesses: if self.contact_pair {
                 Witnesses::Contact
+            } else {
+                Witnesses::Closest
             },
         };
         Ok((m1, mo1, m2, mo2, opts))

@@ -45,10 +45,11 @@ pub struct RobotPathArgs {
     /// Only whether the segment is free (stops at the first contact found; no witnesses).
     #[arg(long)]
     free_only: bool,
-    /// Report the two objects' closest points and exact distance at the time of contact (one
-    /// exact distance query more) instead of the contact pair's points.
+    /// Report the points of the triangle pair that ended the advancement (within the
+    /// tolerance) instead of the two objects' closest points, which take one exact distance
+    /// query more.
     #[arg(long)]
-    closest: bool,
+    contact_pair: bool,
 }
 
 #[derive(Deserialize)]
@@ -103,10 +104,10 @@ pub fn run(args: &RobotPathArgs) -> Result<Value, String> {
     let (q0, q1) = (numbers(&args.q0, "--q0")?, numbers(&args.q1, "--q1")?);
     let opts = RobotOptions {
         tolerance: args.tolerance,
-        witnesses: if args.closest {
-            tocsin::Witnesses::Closest
-        } else {
+        witnesses: if args.contact_pair {
             tocsin::Witnesses::Contact
+        } else {
+            tocsin::Witnesses::Closest
         },
         ..RobotOptions::default()
     };

@@ -17,9 +17,10 @@
 //!     { "query": "hausdorff", "mesh1": "a", "mesh2": "b", "symmetric": true } ] }
 //! ```
 //! Poses are 3, 6 or 16 numbers as on the command line; a missing pose is the identity and a
-//! missing motion keeps the body at the identity. `contact_time` takes `"closest": true` to
-//! report the meshes' closest points at the time (one exact distance query more) instead of the
-//! contact pair's, which are within the tolerance. Relative mesh paths are taken from the scene
+//! missing motion keeps the body at the identity. `contact_time` takes `"contact_pair": true` to
+//! report the points of the triangle pair that ended the advancement (within the tolerance)
+//! instead of the meshes' closest points, which take one exact distance query more. Relative
+//! mesh paths are taken from the scene
 //! file's folder. A key given twice (a mesh name, a query field) is an error, not "the last
 //! one wins".
 
@@ -95,10 +96,10 @@ struct Motions {
     motion2: Option<MotionSpec>,
     tolerance: Option<f64>,
     max_iterations: Option<usize>,
-    /// `contact_time` reports the closest points at the time (one exact distance query more)
-    /// rather than the contact pair's.
+    /// `contact_time` reports the contact pair's points rather than the closest points at the
+    /// time (which take one exact distance query more).
     #[serde(default)]
-    closest: bool,
+    contact_pair: bool,
 }
 
 #[derive(Deserialize)]
@@ -264,10 +265,10 @@ pub fn run(path: &str) -> Result<Value, String> {
                     max_iterations: m
                         .max_iterations
                         .unwrap_or(ContactOptions::default().max_iterations),
-                    witnesses: if m.closest {
-                        Witnesses::Closest
-                    } else {
+                    witnesses: if m.contact_pair {
                         Witnesses::Contact
+                    } else {
+                        Witnesses::Closest
                     },
                 };
                 let (m1, mo1, m2, mo2) = (

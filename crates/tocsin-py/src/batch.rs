@@ -139,7 +139,7 @@ fn run_motions<T: Send>(
     (mesh1, mesh2): (&Mesh, &Mesh),
     body1: (&Bound<'_, PyAny>, &Bound<'_, PyAny>),
     body2: (&Bound<'_, PyAny>, &Bound<'_, PyAny>),
-    (kind, tolerance, max_iterations, closest): (
+    (kind, tolerance, max_iterations, contact_pair): (
         &str,
         Option<f64>,
         Option<&Bound<'_, PyAny>>,
@@ -153,7 +153,7 @@ fn run_motions<T: Send>(
     ) -> Result<Vec<Result<T, ContactError>>, tocsin::OptionsError>,
 ) -> PyResult<Vec<Result<T, ContactError>>> {
     let opts = tocsin::ContactOptions {
-        witnesses: witnesses(closest),
+        witnesses: witnesses(contact_pair),
         ..contact_options(py, tolerance, max_iterations)?
     };
     let pairs = motion_pairs(py, body1, body2, kind)?;
@@ -200,7 +200,7 @@ pub(crate) fn _motion_is_free_batch<'py>(
 /// 0 none, 1 converged, 2 started in contact, 3 iteration limit (no contact, undecided), and
 /// the time up to which each motion is known free of contact.
 #[pyfunction]
-#[pyo3(signature = (mesh1, starts1, ends1, mesh2, starts2, ends2, kind, tolerance=None, max_iterations=None, closest=false))]
+#[pyo3(signature = (mesh1, starts1, ends1, mesh2, starts2, ends2, kind, tolerance=None, max_iterations=None, contact_pair=false))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn _time_of_contact_batch<'py>(
     py: Python<'py>,
@@ -213,14 +213,14 @@ pub(crate) fn _time_of_contact_batch<'py>(
     kind: &str,
     tolerance: Option<f64>,
     max_iterations: Option<&Bound<'_, PyAny>>,
-    closest: bool,
+    contact_pair: bool,
 ) -> PyResult<ContactArrays<'py>> {
     let r = run_motions(
         py,
         (mesh1, mesh2),
         (starts1, ends1),
         (starts2, ends2),
-        (kind, tolerance, max_iterations, closest),
+        (kind, tolerance, max_iterations, contact_pair),
         tocsin::time_of_contact_batch,
     )?;
     let contact = |x: &Result<Option<tocsin::ContactTime>, ContactError>| match x {

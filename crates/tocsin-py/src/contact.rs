@@ -11,9 +11,9 @@ use tocsin::{ContactOptions, ContactStatus, Vec3, Witnesses};
 /// When and where two moving meshes first come within the tolerance.
 ///
 /// `time` is no later than the first collision, and the distance there is at most the
-/// tolerance. point1 and point2 are the closest points of the triangle pair that ended the
-/// advancement (within the tolerance; the meshes' distance is at most `distance`), or with
-/// time_of_contact(..., closest=True) the meshes' closest points and exact distance. The normal
+/// tolerance. point1 and point2 are the meshes' closest points there, or with
+/// time_of_contact(..., contact_pair=True) the closest points of the triangle pair that ended
+/// the advancement (within the tolerance; the meshes' distance is at most `distance`). The normal
 /// points from body 1 to body 2: the direction between the points where that is determined;
 /// at a distance below rounding (1e-10 of the scene scale), the direction at the last
 /// advancement step where the meshes were clearly apart; when the meshes start in contact, the
@@ -27,7 +27,7 @@ pub(crate) struct ContactResult {
     p2: Vec3,
     n: Vec3,
     /// Distance between point1 and point2, model units, at most the tolerance: the meshes'
-    /// distance at `time` with closest=True, an upper bound on it otherwise.
+    /// distance at `time` (with contact_pair=True, at least it).
     #[pyo3(get)]
     distance: f64,
     /// Triangle of mesh 1 holding point1.
@@ -46,13 +46,13 @@ pub(crate) struct ContactResult {
 
 #[pymethods]
 impl ContactResult {
-    /// Point of mesh 1 at `time` (the contact pair's, or the closest), world frame, shape (3,).
+    /// Point of mesh 1 at `time` (the closest, or the contact pair's), world frame, shape (3,).
     #[getter]
     fn point1<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
         vec3(py, self.p1)
     }
 
-    /// Point of mesh 2 at `time` (the contact pair's, or the closest), world frame, shape (3,).
+    /// Point of mesh 2 at `time` (the closest, or the contact pair's), world frame, shape (3,).
     #[getter]
     fn point2<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
         vec3(py, self.p2)
@@ -111,13 +111,13 @@ pub(crate) fn contact_options(
     })
 }
 
-/// The witnesses a time of contact reports: the closest points when `closest`, else the
-/// contact pair's.
-pub(crate) fn witnesses(closest: bool) -> Witnesses {
-    if closest {
-        Witnesses::Closest
-    } else {
+/// The witnesses a time of contact reports: the contact pair's when `contact_pair`, else the
+/// closest points.
+pub(crate) fn witnesses(contact_pair: bool) -> Witnesses {
+    if contact_pair {
         Witnesses::Contact
+    } else {
+        Witnesses::Closest
     }
 }
 
@@ -127,11 +127,12 @@ pub(crate) fn witnesses(closest: bool) -> Witnesses {
 /// either in between. The tolerance defaults to 1e-3 of the smaller bounding radius (raised
 /// for degenerate meshes). Raises IterationLimitError when max_iterations (default 1000) runs
 /// out first: that is no contact, and the motion is only known free up to its time_reached.
-/// The points reported are those of the triangle pair that ended the advancement (within the
-/// tolerance, its distance the one reported); closest=True reports the meshes' closest points
-/// and exact distance at that time instead, for one exact distance query more.
+/// The points reported are the meshes' closest at that time, with their exact distance;
+/// contact_pair=True reports those of the triangle pair that ended the advancement instead
+/// (within the tolerance; their distance is at least the meshes'), which saves the final exact
+/// distance query (15 to 25% of a knot's time of contact).
 #[pyfunction]
-#[pyo3(signature = (mesh1, motion1, mesh2, motion2, tolerance=None, max_iterations=None, closest=false))]
+#[pyo3(signature = (mesh1, motion1, mesh2, motion2, tolerance=None, max_iterations=None, contact_pair=false))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn time_of_contact(
     py: Python<'_>,
@@ -141,10 +142,10 @@ pub(crate) fn time_of_contact(
     motion2: &Motion,
     tolerance: Option<f64>,
     max_iterations: Option<&Bound<'_, PyAny>>,
-    closest: bool,
+    contact_pair: bool,
 ) -> PyResult<Option<ContactResult>> {
     let opts = ContactOptions {
-        witnesses: witnesses(closest),
+        witnesses: witnesses(contact_pair),
         ..contact_options(py, tolerance, max_iterations)?
     };
     let (m1, m2) = (mesh1.inner.clone(), mesh2.inner.clone());

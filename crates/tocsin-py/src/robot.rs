@@ -534,10 +534,11 @@ impl Robot {
     /// obstacles: a RobotContact whenever some checked pair comes within tolerance / 2 (always
     /// when one collides), no later than the first collision; None when every pair stays
     /// farther apart than the tolerance. The tolerance defaults to 1e-3 of the smallest
-    /// bounding radius among the robot's collision objects. Exact: no sampling. The points
-    /// are those of the triangle pair that ended the pair's advancement (within the tolerance);
-    /// closest=True reports the two objects' closest points and exact distance instead.
-    #[pyo3(signature = (q0, q1, scene=None, tolerance=None, max_iterations=None, cache=None, closest=false))]
+    /// bounding radius among the robot's collision objects. Exact: no sampling. The points are
+    /// the two objects' closest, with their exact distance; contact_pair=True reports those of
+    /// the triangle pair that ended the pair's advancement (within the tolerance) instead,
+    /// without the final exact distance query.
+    #[pyo3(signature = (q0, q1, scene=None, tolerance=None, max_iterations=None, cache=None, contact_pair=false))]
     #[allow(clippy::too_many_arguments)]
     fn time_of_contact(
         &self,
@@ -548,7 +549,7 @@ impl Robot {
         tolerance: Option<f64>,
         max_iterations: Option<&Bound<'_, PyAny>>,
         cache: Option<&RobotCache>,
-        closest: bool,
+        contact_pair: bool,
     ) -> PyResult<Option<RobotContact>> {
         let SegmentCall {
             a,
@@ -557,7 +558,7 @@ impl Robot {
             robot,
             scene,
         } = self.segment_call(py, q0, q1, scene, tolerance, max_iterations)?;
-        opts.witnesses = witnesses(closest);
+        opts.witnesses = witnesses(contact_pair);
         let r = py
             .detach(|| match cache {
                 Some(c) => {
@@ -694,8 +695,8 @@ impl Robot {
 
     /// time_of_contact for every segment (Q0[i], Q1[i]), on all cores: a list of RobotContact
     /// or None, identical to the single calls. The first failing segment raises, naming it.
-    /// `closest` as in time_of_contact.
-    #[pyo3(signature = (q0s, q1s, scene=None, tolerance=None, max_iterations=None, closest=false))]
+    /// `contact_pair` as in time_of_contact.
+    #[pyo3(signature = (q0s, q1s, scene=None, tolerance=None, max_iterations=None, contact_pair=false))]
     #[allow(clippy::too_many_arguments)]
     fn time_of_contact_batch(
         &self,
@@ -705,11 +706,11 @@ impl Robot {
         scene: Option<&Scene>,
         tolerance: Option<f64>,
         max_iterations: Option<&Bound<'_, PyAny>>,
-        closest: bool,
+        contact_pair: bool,
     ) -> PyResult<Vec<Option<RobotContact>>> {
         let segments = self.segments(q0s, q1s)?;
         let opts = RobotOptions {
-            witnesses: witnesses(closest),
+            witnesses: witnesses(contact_pair),
             ..options(py, tolerance, max_iterations)?
         };
         let (robot, scene) = (snapshot(&self.inner), scene_of(scene));
@@ -926,7 +927,7 @@ pub(crate) struct RobotContact {
     #[pyo3(get)]
     self_collision: bool,
     /// Distance between point1 and point2 (model units, >= 0, at most the tolerance): the
-    /// objects' distance at `time` with closest=True, an upper bound on it otherwise.
+    /// objects' distance at `time` (with contact_pair=True, at least it).
     #[pyo3(get)]
     distance: f64,
     /// Advancement iterations of the pair that made the contact.
@@ -942,13 +943,13 @@ pub(crate) struct RobotContact {
 
 #[pymethods]
 impl RobotContact {
-    /// Point of object1 at `time` (the contact pair's, or the closest), world frame, shape (3,).
+    /// Point of object1 at `time` (the closest, or the contact pair's), world frame, shape (3,).
     #[getter]
     fn point1<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
         vec3(py, self.p1)
     }
 
-    /// Point of object2 at `time` (the contact pair's, or the closest), world frame, shape (3,).
+    /// Point of object2 at `time` (the closest, or the contact pair's), world frame, shape (3,).
     #[getter]
     fn point2<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
         vec3(py, self.p2)

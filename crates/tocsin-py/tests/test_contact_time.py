@@ -26,7 +26,7 @@ def test_knot_through_knot(kind):
     end = pose((10, -0.2, 0.1), (0.2, 1, 0.3), 0.0 if kind == "translation" else 1.2)
     motion = getattr(tocsin.Motion, kind)(start, end)
     still = tocsin.Motion.stationary(np.eye(4))
-    r = tocsin.time_of_contact(knot, motion, knot, still, tolerance=1e-3)
+    r = tocsin.time_of_contact(knot, motion, knot, still, tolerance=1e-3, contact_pair=True)
     t_hit = first_sampled_collision(knot, motion, knot, still)
     assert t_hit is not None and r is not None
     assert r.time <= t_hit
@@ -39,15 +39,15 @@ def test_knot_through_knot(kind):
     assert np.linalg.norm(r.normal) == pytest.approx(1.0)
     assert np.dot(r.normal, r.point2 - r.point1) > 0
     assert r.point1.shape == (3,) and r.iterations >= 1
-    # closest=True: the same advancement, the meshes' closest points and exact distance.
-    c = tocsin.time_of_contact(knot, motion, knot, still, tolerance=1e-3, closest=True)
+    # The default: the same advancement, the meshes' closest points and exact distance.
+    c = tocsin.time_of_contact(knot, motion, knot, still, tolerance=1e-3)
     assert (c.time, c.iterations, c.status) == (r.time, r.iterations, r.status)
     assert c.distance == pytest.approx(d, rel=1e-9, abs=1e-15)
     batch = tocsin.time_of_contact_batch(
         knot, [motion.pose_at(0.0)], [motion.pose_at(1.0)], knot, kind=kind, tolerance=1e-3,
-        closest=True,
+        contact_pair=True,
     )
-    assert batch.time[0] == c.time and batch.distance[0] == c.distance
+    assert batch.time[0] == r.time and batch.distance[0] == r.distance
 
 
 def test_miss_and_start_in_contact():

@@ -54,8 +54,8 @@ def test_same_results_as_the_local_batches(cluster, chunk):
     ends = knot_poses(40, 3)
     d = distributed.time_of_contact_batch(knot, poses, ends, knot, kind="screw", chunk_size=chunk)
     same(d, tocsin.time_of_contact_batch(knot, poses, ends, knot, kind="screw"))
-    d = distributed.time_of_contact_batch(knot, poses, ends, knot, kind="screw", closest=True, chunk_size=chunk)
-    same(d, tocsin.time_of_contact_batch(knot, poses, ends, knot, kind="screw", closest=True))
+    d = distributed.time_of_contact_batch(knot, poses, ends, knot, kind="screw", contact_pair=True, chunk_size=chunk)
+    same(d, tocsin.time_of_contact_batch(knot, poses, ends, knot, kind="screw", contact_pair=True))
     assert 0 < np.isfinite(d.time).sum() < 40
     f = distributed.motion_is_free_batch(knot, poses, ends, knot, kind="screw", chunk_size=chunk)
     same(f, tocsin.motion_is_free_batch(knot, poses, ends, knot, kind="screw"))

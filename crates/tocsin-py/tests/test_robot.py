@@ -133,7 +133,7 @@ def test_segments_against_dense_sampling(urdf, srdf, offset):
             continue
         q1 = np.clip(q0 + rng.normal(size=robot.dof) * 0.6, lo, hi)
         checked += 1
-        got = robot.time_of_contact(q0, q1, scene)
+        got = robot.time_of_contact(q0, q1, scene, contact_pair=True)
         assert robot.path_is_free(q0, q1, scene) == (got is None)
         assert robot.last_valid(q0, q1, scene) == (1.0 if got is None else got.time)
         first = first_sampled_collision(robot, q0, q1, scene)
@@ -146,9 +146,9 @@ def test_segments_against_dense_sampling(urdf, srdf, offset):
         if first is not None:
             assert got.time <= first + 1e-12, f"late: {got.time} > {first}"
         q = lerp(q0, q1, got.time)
-        # The contact pair's distance is at least the named objects' there; with closest=True,
-        # the same contact at their exact distance.
-        exact = robot.time_of_contact(q0, q1, scene, closest=True)
+        # The contact pair's distance is at least the named objects' there; the default, the
+        # same contact at their exact distance.
+        exact = robot.time_of_contact(q0, q1, scene)
         assert (exact.time, exact.object1, exact.object2) == (got.time, got.object1, got.object2)
         poses = dict(zip(robot.object_names, robot.object_poses(q)))
         m1 = robot.object_mesh(got.object1)
@@ -186,7 +186,7 @@ def test_batches_match_single_calls():
     before = (q0s.copy(), q1s.copy())
     free = robot.paths_are_free(q0s, q1s, scene)
     contacts = robot.time_of_contact_batch(q0s, q1s, scene)
-    closest = robot.time_of_contact_batch(q0s, q1s, scene, closest=True)
+    pairs = robot.time_of_contact_batch(q0s, q1s, scene, contact_pair=True)
     cache = tocsin.RobotCache()
     for i in range(len(q0s)):
         single = robot.time_of_contact(q0s[i], q1s[i], scene)
@@ -199,7 +199,7 @@ def test_batches_match_single_calls():
         if single is not None:
             assert contacts[i].time == single.time and contacts[i].object2 == single.object2
             assert contacts[i].distance == single.distance
-            assert closest[i].time == single.time and closest[i].distance <= single.distance
+            assert pairs[i].time == single.time and pairs[i].distance >= single.distance
     np.testing.assert_array_equal(robot.check_configurations(q0s, scene), [robot.in_collision(q, scene) for q in q0s])
     np.testing.assert_array_equal(before[0], q0s)  # the caller's arrays are not modified
     np.testing.assert_array_equal(before[1], q1s)

@@ -82,13 +82,14 @@ fn check(
         ..Default::default()
     };
     let delta = tocsin::query::contact_time::effective_tolerance(m1, mo1, m2, mo2, &opts);
-    let r = time_of_contact(m1, mo1, m2, mo2, &opts).unwrap();
-    // The closest points at the same time: the same advancement, one exact distance more.
-    let closest_opts = ContactOptions {
-        witnesses: Witnesses::Closest,
+    // The contact pair's points (`r`, checked below with the advancement) and the default
+    // closest points at the same time (`exact`): the same advancement either way.
+    let pair_opts = ContactOptions {
+        witnesses: Witnesses::Contact,
         ..opts
     };
-    let exact = time_of_contact(m1, mo1, m2, mo2, &closest_opts).unwrap();
+    let r = time_of_contact(m1, mo1, m2, mo2, &pair_opts).unwrap();
+    let exact = time_of_contact(m1, mo1, m2, mo2, &opts).unwrap();
     assert_eq!(
         r.map(|c| (c.time, c.iterations, c.status)),
         exact.map(|c| (c.time, c.iterations, c.status)),
@@ -129,8 +130,8 @@ fn check(
                 "reported closest distance",
             );
             // The contact pair's points: on the triangles named (to 1e-6 of the tolerance: the
-            // oracle's projection onto a sliver rounds at 1e-11 of its size), as far apart as the distance
-            // reported, which is at least the meshes' and within the tolerance.
+            // oracle's projection onto a sliver rounds at 1e-11 of its size), as far apart as
+            // the distance reported, which is at least the meshes' and within the tolerance.
             let on = |m: &TriMesh, p: &Pose, t: usize, x: Vec3| {
                 oracle_point_triangle(x, &m.triangle(t).map(|v| p.transform_point(v)))
             };

@@ -519,7 +519,10 @@ fn random_chains_against_dense_sampling() {
             continue;
         }
         let q1: Vec<f64> = q0.iter().map(|q| q + rng.random_range(-2.0..2.0)).collect();
-        let opts = RobotOptions::default();
+        let opts = RobotOptions {
+            witnesses: tocsin::Witnesses::Contact,
+            ..RobotOptions::default()
+        };
         let tol = query::robot_tolerance(&robot, &opts);
         let got = query::time_of_contact(&robot, &q0, &q1, &scene, &opts).unwrap();
         let is_free = query::path_is_free(&robot, &q0, &q1, &scene, &opts).unwrap();
@@ -548,11 +551,8 @@ fn random_chains_against_dense_sampling() {
                     c.distance
                 );
                 assert!(((c.point2 - c.point1).length() - c.distance).abs() <= 1e-9);
-                // The closest points: the same contact, at the exact distance.
-                let closest = RobotOptions {
-                    witnesses: tocsin::Witnesses::Closest,
-                    ..opts
-                };
+                // The closest points (the default): the same contact, at the exact distance.
+                let closest = RobotOptions::default();
                 let e = query::time_of_contact(&robot, &q0, &q1, &scene, &closest)
                     .unwrap()
                     .expect("the same advancement");

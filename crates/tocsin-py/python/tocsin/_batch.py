@@ -102,16 +102,16 @@ def time_of_contact_batch(
     kind: str = "interp",
     tolerance: Optional[float] = None,
     max_iterations: Optional[int] = None,
-    closest: bool = False,
+    contact_pair: bool = False,
 ) -> ContactBatch:
     """tocsin.time_of_contact for K motions of body 1 from starts1[k] to ends1[k] (and of body 2
     from starts2[k] to ends2[k]; body 2 stays at the identity when they are omitted). `kind` is
-    'translation', 'interp' (about the body origin) or 'screw', for both bodies. `closest` as
-    in tocsin.time_of_contact: the meshes' closest points and exact distance rather than the
-    contact pair's."""
+    'translation', 'interp' (about the body origin) or 'screw', for both bodies. `contact_pair`
+    as in tocsin.time_of_contact: the points of the triangle pair that ended the advancement
+    rather than the meshes' closest points."""
     starts2, ends2 = _body2_motions(starts2, ends2)
     t, p1, p2, n, d, t1, t2, it, st, free = _core._time_of_contact_batch(
-        mesh1, starts1, ends1, mesh2, starts2, ends2, kind, tolerance, max_iterations, closest
+        mesh1, starts1, ends1, mesh2, starts2, ends2, kind, tolerance, max_iterations, contact_pair
     )
     return ContactBatch(t, p1, p2, n, d, t1, t2, it, _STATUS[st], free)
 

@@ -180,9 +180,9 @@ class ContactResult:
     """When and where two moving meshes first come within the tolerance.
 
     `time` is no later than the first collision, and the distance there is at most the
-    tolerance. point1 and point2 are the closest points of the triangle pair that ended the
-    advancement (within the tolerance; the meshes' distance is at most `distance`), or with
-    time_of_contact(..., closest=True) the meshes' closest points and exact distance. The normal
+    tolerance. point1 and point2 are the meshes' closest points there, or with
+    time_of_contact(..., contact_pair=True) the closest points of the triangle pair that ended
+    the advancement (within the tolerance; the meshes' distance is at most `distance`). The normal
     points from body 1 to body 2: the direction between the points where that is determined;
     at a distance below rounding (1e-10 of the scene scale), the direction at the last
     advancement step where the meshes were clearly apart; when the meshes start in contact, the
@@ -194,17 +194,17 @@ class ContactResult:
         """Time of contact in [0, 1], no later than the first collision."""
     @property
     def point1(self) -> npt.NDArray[np.float64]:
-        """Point of mesh 1 at `time` (the contact pair's, or the closest), world frame, shape (3,)."""
+        """Point of mesh 1 at `time` (the closest, or the contact pair's), world frame, shape (3,)."""
     @property
     def point2(self) -> npt.NDArray[np.float64]:
-        """Point of mesh 2 at `time` (the contact pair's, or the closest), world frame, shape (3,)."""
+        """Point of mesh 2 at `time` (the closest, or the contact pair's), world frame, shape (3,)."""
     @property
     def normal(self) -> npt.NDArray[np.float64]:
         """Unit normal from body 1 to body 2, world frame, shape (3,)."""
     @property
     def distance(self) -> float:
         """Distance between point1 and point2, model units, at most the tolerance: the meshes'
-        distance at `time` with closest=True, an upper bound on it otherwise."""
+        distance at `time` (with contact_pair=True, at least it)."""
     @property
     def triangle1(self) -> int:
         """Triangle of mesh 1 holding point1."""
@@ -226,7 +226,7 @@ def time_of_contact(
     motion2: Motion,
     tolerance: Optional[float] = None,
     max_iterations: Optional[int] = None,
-    closest: bool = False,
+    contact_pair: bool = False,
 ) -> Optional[ContactResult]:
     """First time of contact of mesh1 moving by motion1 and mesh2 moving by motion2 over t in
     [0, 1]. Returns a ContactResult whenever the meshes come within tolerance / 2 of each other
@@ -234,9 +234,10 @@ def time_of_contact(
     either in between. The tolerance defaults to 1e-3 of the smaller bounding radius (raised
     for degenerate meshes). Raises IterationLimitError when max_iterations (default 1000) runs
     out first: that is no contact, and the motion is only known free up to its time_reached.
-    The points reported are those of the triangle pair that ended the advancement (within the
-    tolerance, its distance the one reported); closest=True reports the meshes' closest points
-    and exact distance at that time instead, for one exact distance query more.
+    The points reported are the meshes' closest at that time, with their exact distance;
+    contact_pair=True reports those of the triangle pair that ended the advancement instead
+    (within the tolerance; their distance is at least the meshes'), which saves the final exact
+    distance query (15 to 25% of a knot's time of contact).
     The GIL is released."""
 
 def motion_is_free(
@@ -279,7 +280,7 @@ def _time_of_contact_batch(
     kind: str,
     tolerance: Optional[float] = None,
     max_iterations: Optional[int] = None,
-    closest: bool = False,
+    contact_pair: bool = False,
 ) -> tuple[
     npt.NDArray[np.float64],
     npt.NDArray[np.float64],
@@ -383,10 +384,10 @@ class Robot:
         tolerance: Optional[float] = None,
         max_iterations: Optional[int] = None,
         cache: Optional[RobotCache] = None,
-        closest: bool = False,
+        contact_pair: bool = False,
     ) -> Optional[RobotContact]:
-        """First time of contact along q0 -> q1 with itself or the scene (exact); the contact
-        pair's points, or with closest=True the two objects' closest points."""
+        """First time of contact along q0 -> q1 with itself or the scene (exact); the two
+        objects' closest points, or with contact_pair=True the contact pair's."""
     def path_is_free(
         self,
         q0: ArrayLike,
@@ -426,7 +427,7 @@ class Robot:
         scene: Optional[Scene] = None,
         tolerance: Optional[float] = None,
         max_iterations: Optional[int] = None,
-        closest: bool = False,
+        contact_pair: bool = False,
     ) -> list[Optional[RobotContact]]:
         """time_of_contact for every segment, on all cores."""
 
@@ -460,17 +461,17 @@ class RobotContact:
         """Whether object2 is part of the robot."""
     @property
     def point1(self) -> npt.NDArray[np.float64]:
-        """Point of object1 (the contact pair's, or the closest), world frame, shape (3,)."""
+        """Point of object1 (the closest, or the contact pair's), world frame, shape (3,)."""
     @property
     def point2(self) -> npt.NDArray[np.float64]:
-        """Point of object2 (the contact pair's, or the closest), world frame, shape (3,)."""
+        """Point of object2 (the closest, or the contact pair's), world frame, shape (3,)."""
     @property
     def normal(self) -> npt.NDArray[np.float64]:
         """Unit normal from object1 to object2, world frame, shape (3,)."""
     @property
     def distance(self) -> float:
         """Distance between point1 and point2 (model units, at most the tolerance): the objects'
-        distance at time with closest=True, an upper bound on it otherwise."""
+        distance at time (with contact_pair=True, at least it)."""
     @property
     def iterations(self) -> int:
         """Advancement iterations of the pair that made the contact."""

@@ -318,7 +318,7 @@ def time_of_contact_batch(
     kind: str = "interp",
     tolerance: Optional[float] = None,
     max_iterations: Optional[int] = None,
-    closest: bool = False,
+    contact_pair: bool = False,
     *,
     chunk_size: Optional[int] = None,
     address: Optional[str] = None,
@@ -326,7 +326,7 @@ def time_of_contact_batch(
     max_retries: int = 3,
 ) -> _batch.ContactBatch:
     """``tocsin.time_of_contact_batch`` on the Ray cluster: identical results, in input order."""
-    options = dict(kind=kind, tolerance=tolerance, max_iterations=max_iterations, closest=closest)
+    options = dict(kind=kind, tolerance=tolerance, max_iterations=max_iterations, contact_pair=contact_pair)
     return _motions_run(_batch.time_of_contact_batch, (mesh1, mesh2), (starts1, ends1), (starts2, ends2),
                         options, (chunk_size, address, progress, max_retries))
 
@@ -489,8 +489,8 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
       ``mesh1_triangles`` (M, 3), the same for ``mesh2``;
     - distance, collide: ``poses1`` (K, 4, 4), ``poses2`` (K, 4, 4) or (4, 4);
     - time_of_contact: ``starts1``, ``ends1``, optional ``starts2``, ``ends2``, ``kind``
-      ("interp", "screw", "translation"), optional ``tolerance`` and ``closest`` (the closest
-      points rather than the contact pair's);
+      ("interp", "screw", "translation"), optional ``tolerance`` and ``contact_pair`` (the
+      contact pair's points rather than the closest);
     - paths_are_free: ``urdf`` (a path), optional ``srdf``, ``q0s`` and ``q1s`` (N, dof), and
       obstacles ``obstacle0_vertices``, ``obstacle0_triangles``, ``obstacle0_pose``, ...
 
@@ -523,7 +523,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
                 data["ends2"] if "ends2" in data else None,
                 kind=str(data["kind"]) if "kind" in data else "interp",
                 tolerance=float(data["tolerance"]) if "tolerance" in data else None,
-                closest=bool(data["closest"]) if "closest" in data else False,
+                contact_pair=bool(data["contact_pair"]) if "contact_pair" in data else False,
                 **opts,
             )
             out = r._asdict()

@@ -122,9 +122,9 @@ pub struct RobotOptions {
     /// none lands in the collision the advancement has to converge to it (docs/BENCHMARKS.md,
     /// tenth session).
     pub cull_depth: u32,
-    /// Which points a contact reports, as the rigid query's ([`Witnesses`]): by default the
-    /// pair's triangles that ended its advancement; [`Witnesses::Closest`] the two objects'
-    /// closest points at the time, by one exact distance query more.
+    /// Which points a contact reports, as the rigid query's ([`Witnesses`]): by default the two
+    /// objects' closest points at the time; [`Witnesses::Contact`] those of the triangle pair
+    /// that ended the pair's advancement, without the final exact distance query.
     pub witnesses: Witnesses,
 }
 
@@ -134,7 +134,7 @@ impl Default for RobotOptions {
             tolerance: None,
             max_iterations: 1000,
             cull_depth: 4,
-            witnesses: Witnesses::Contact,
+            witnesses: Witnesses::Closest,
         }
     }
 }
@@ -150,7 +150,7 @@ pub struct RobotContact {
     pub object2: String,
     /// Whether `object2` is part of the robot.
     pub self_collision: bool,
-    /// Point of `object1`, world frame: of the contact pair, or the objects' closest
+    /// Point of `object1`, world frame: the objects' closest, or the contact pair's
     /// ([`RobotOptions::witnesses`]).
     pub point1: Vec3,
     /// Point of `object2`, world frame, as `point1`.
@@ -158,7 +158,7 @@ pub struct RobotContact {
     /// Unit normal from `object1` to `object2`, world frame (rules of the rigid query).
     pub normal: Vec3,
     /// Distance between `point1` and `point2` (model units, >= 0, at most the tolerance): the
-    /// objects' distance at `time` with [`Witnesses::Closest`], at least it otherwise.
+    /// objects' distance at `time` (with [`Witnesses::Contact`], at least it).
     pub distance: f64,
     /// Advancement iterations of the pair that made the contact.
     pub iterations: usize,
