@@ -629,7 +629,13 @@ impl Robot {
             if rq::path_is_free(&robot, &a, &b, &scene, &opts)? {
                 return Ok(1.0);
             }
-            Ok(rq::time_of_contact(&robot, &a, &b, &scene, &opts)?.map_or(1.0, |c| c.time))
+            // Only the time is wanted: the contact pair's witnesses skip the final exact
+            // distance query (the time is the same with either).
+            let time_only = RobotOptions {
+                witnesses: tocsin::Witnesses::Contact,
+                ..opts
+            };
+            Ok(rq::time_of_contact(&robot, &a, &b, &scene, &time_only)?.map_or(1.0, |c| c.time))
         })
         .map_err(|e| robot_error(py, e))
     }

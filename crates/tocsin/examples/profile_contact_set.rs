@@ -7,14 +7,15 @@
 //! `cargo run --release --example profile_contact_set [model] [repeats]`, model one of
 //! knot2.8k, knot34k (default), sphere, or a mesh file (.obj, .stl: the bunny or a Panda link
 //! of pybullet_data); `ONLY=toc|free` runs only that call and `SET=pass|near` only the passes
-//! or the near misses (for callgrind).
+//! or the near misses (for callgrind); `WITNESSES=contact` asks the contact pair's points
+//! ([`Witnesses::Contact`]) instead of the closest ones.
 #[path = "../benches/common/mod.rs"]
 mod common;
 
 use std::time::Instant;
 use tocsin::{
     distance_with_cache, mesh, motion_is_free, time_of_contact, ContactOptions, DistanceCache,
-    DistanceOptions, Motion, Pose, TriMesh,
+    DistanceOptions, Motion, Pose, TriMesh, Witnesses,
 };
 
 /// The bench's 30 passes and 20 near misses of each motion kind, tagged with the kind.
@@ -45,7 +46,15 @@ fn main() {
     };
     let qs = queries(&m);
     let still = Motion::stationary(Pose::IDENTITY);
-    let opts = ContactOptions::default();
+    // `WITNESSES=contact`: the contact pair's points instead of the closest ones.
+    let opts = ContactOptions {
+        witnesses: if std::env::var("WITNESSES").is_ok_and(|w| w == "contact") {
+            Witnesses::Contact
+        } else {
+            Witnesses::Closest
+        },
+        ..ContactOptions::default()
+    };
     let (mut toc, mut free, mut witness, mut iters) = (
         vec![Vec::new(); 3],
         vec![Vec::new(); 3],
