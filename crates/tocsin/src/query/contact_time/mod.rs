@@ -720,14 +720,7 @@ fn pair_contact(
 ) -> Option<ContactTime> {
     let (l1, l2) = ends.within?;
     let (p1, p2) = (motion1.pose_at(ends.time), motion2.pose_at(ends.time));
-    let (bvh1, bvh2) = (mesh1.bvh(), mesh2.bvh());
-    let a = bvh1.leaf_triangles().get(l1 as usize)?;
-    let pos12 = p1.inv_mul(&p2);
-    let b = bvh2
-        .leaf_triangles()
-        .get(l2 as usize)?
-        .map(|v| pos12.transform_point(v));
-    let e = distance_triangle_triangle(a, &b);
+    let e = leaf_pair_in_frame1(mesh1, &p1, mesh2, &p2, (l1, l2))?;
     if e.distance.is_nan() || e.distance <= ends.resolution {
         return None;
     }
@@ -738,11 +731,30 @@ fn pair_contact(
         point2: p1.transform_point(e.point2),
         normal,
         distance: e.distance,
-        triangle1: bvh1.triangle_index(l1),
-        triangle2: bvh2.triangle_index(l2),
+        triangle1: mesh1.bvh().triangle_index(l1),
+        triangle2: mesh2.bvh().triangle_index(l2),
         iterations: ends.iterations,
         status: ends.status,
     })
+}
+
+/// The closest points and distance of leaf pair `(l1, l2)` with the bodies at `p1` and `p2`,
+/// computed in body 1's frame (its triangle as stored, body 2's mapped by `p1^-1 p2`), where
+/// they do not round at the bodies' distance from the origin; `None` for a leaf out of range.
+fn leaf_pair_in_frame1(
+    mesh1: &TriMesh,
+    p1: &crate::Pose,
+    mesh2: &TriMesh,
+    p2: &crate::Pose,
+    (l1, l2): (u32, u32),
+) -> Option<crate::query::distance::TrianglePairDistance> {
+    let pos12 = p1.inv_mul(p2);
+    let a = mesh1.bvh().leaf_triangles().get(l1 as usize)?;
+    let b = mesh2.bvh().leaf_triangles().get(l2 as usize)?;
+    Some(distance_triangle_triangle(
+        a,
+        &b.map(|v| pos12.transform_point(v)),
+    ))
 }
 
 /// The unit direction from `d.point1` to `d.point2` (world frame), taken from the closest
@@ -759,12 +771,8 @@ fn pair_direction(
     leaves: Option<(u32, u32)>,
     d: &crate::query::distance::DistanceResult,
 ) -> Vec3 {
-    let local = leaves.and_then(|(l1, l2)| {
-        let pos12 = p1.inv_mul(p2);
-        let a = mesh1.bvh().leaf_triangles().get(l1 as usize)?;
-        let b = mesh2.bvh().leaf_triangles().get(l2 as usize)?;
-        let b = b.map(|v| pos12.transform_point(v));
-        let e = distance_triangle_triangle(a, &b);
+    let local = leaves.and_then(|pair| {
+        let e = leaf_pair_in_frame1(mesh1, p1, mesh2, p2, pair)?;
         (p1.rotation * (e.point2 - e.point1)).try_normalize()
     });
     local
