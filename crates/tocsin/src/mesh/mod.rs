@@ -31,6 +31,9 @@ pub struct TriMesh {
     /// Per leaf position, the leaf positions of the triangles sharing a vertex with it, found on
     /// first use.
     neighbours: std::sync::OnceLock<Neighbours>,
+    /// Balls inside the mesh when it is one closed surface (empty otherwise), found on first
+    /// use.
+    balls: std::sync::OnceLock<Vec<crate::query::penetration::balls::Ball>>,
 }
 
 /// Leaf positions sharing a vertex with each leaf: `list[offsets[i]..offsets[i + 1]]`.
@@ -65,6 +68,7 @@ impl TriMesh {
             winding: std::sync::OnceLock::new(),
             polytope: std::sync::OnceLock::new(),
             neighbours: std::sync::OnceLock::new(),
+            balls: std::sync::OnceLock::new(),
         })
     }
 
@@ -87,6 +91,7 @@ impl TriMesh {
             winding: std::sync::OnceLock::new(),
             polytope: std::sync::OnceLock::new(),
             neighbours: std::sync::OnceLock::new(),
+            balls: std::sync::OnceLock::new(),
         })
     }
 
@@ -114,6 +119,13 @@ impl TriMesh {
         self.polytope
             .get_or_init(|| crate::query::penetration::convex::polytope(self))
             .as_ref()
+    }
+
+    /// Balls inside the mesh, when its triangles form one closed connected surface (found on
+    /// first use, then kept; see [`crate::query::penetration::balls`]).
+    pub(crate) fn inscribed_balls(&self) -> &[crate::query::penetration::balls::Ball] {
+        self.balls
+            .get_or_init(|| crate::query::penetration::balls::inscribed_balls(self))
     }
 
     /// Per leaf position, the leaf positions of the triangles that share a vertex with it

@@ -13,6 +13,7 @@
 //! alike, as a whole: a closed mesh whose triangles face both ways at random (a convex hull's
 //! simplices as scipy lists them) gets fractional values inside, and may be taken for empty.
 
+pub(crate) mod balls;
 pub mod convex;
 pub mod depth;
 pub mod hausdorff;
