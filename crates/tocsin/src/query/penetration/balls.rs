@@ -341,7 +341,7 @@ mod tests {
             let pose2 = Pose::from_axis_angle(unit(&mut rng), rng.random_range(0.0..3.0), offset);
             let pose2 = pose1.mul(&pose2);
             let mut hint = None;
-            if !super::super::depth::penetrating_for_tests(&m, &pose1, &m, &pose2, &mut hint) {
+            if !super::super::depth::penetrating(&m, &pose1, &m, &pose2, &mut hint) {
                 continue;
             }
             poses += 1;
@@ -360,9 +360,7 @@ mod tests {
                     };
                     let mut hint = None;
                     assert!(
-                        super::super::depth::penetrating_for_tests(
-                            &m, &pose1, &m, &moved, &mut hint
-                        ),
+                        super::super::depth::penetrating(&m, &pose1, &m, &moved, &mut hint),
                         "free at {s} below {h}"
                     );
                 }

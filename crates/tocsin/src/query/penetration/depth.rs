@@ -217,8 +217,9 @@ fn sphere_directions(n: usize) -> Vec<Vec3> {
 
 /// Whether the bodies penetrate: surfaces intersect, or one lies inside the other. `hint`: an
 /// intersecting leaf pair of a nearby configuration, tried first, and replaced by the pair
-/// found here (see [`intersecting_leaves`]; the same verdict either way).
-fn penetrating(
+/// found here (see [`intersecting_leaves`]; the same verdict either way). The balls' shifts
+/// ([`super::balls`]) are tested against it.
+pub(crate) fn penetrating(
     mesh1: &TriMesh,
     pose1: &Pose,
     mesh2: &TriMesh,
@@ -237,18 +238,6 @@ fn penetrating(
         .inv_mul(pose1)
         .transform_point(mesh1.vertices()[mesh1.triangles()[0][0] as usize]);
     inside(mesh1, corner2) || inside(mesh2, corner1)
-}
-
-/// [`penetrating`], for the tests of other modules.
-#[cfg(test)]
-pub(crate) fn penetrating_for_tests(
-    mesh1: &TriMesh,
-    pose1: &Pose,
-    mesh2: &TriMesh,
-    pose2: &Pose,
-    hint: &mut Option<(u32, u32)>,
-) -> bool {
-    penetrating(mesh1, pose1, mesh2, pose2, hint)
 }
 
 /// Out-projection along the unit `d`: the first configuration along `d` found free (samples
