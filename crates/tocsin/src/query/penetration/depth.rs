@@ -320,7 +320,7 @@ thread_local! {
     /// Continuous queries run by the seeds (how much work the bound saves, in the tests).
     static SEED_QUERIES: std::cell::Cell<usize> = const { std::cell::Cell::new(0) };
     /// Whether the seeds use the balls' shifts (the tests compare the answers without them).
-    static BALLS: std::cell::Cell<bool> = const { std::cell::Cell::new(true) };
+    static BALL_SHIFTS: std::cell::Cell<bool> = const { std::cell::Cell::new(true) };
     /// Starts ended by reaching an earlier start's best ([`refine`]); `usize::MAX` turns the
     /// rule off (the tests compare the answers without it).
     static MERGES: std::cell::Cell<usize> = const { std::cell::Cell::new(0) };
@@ -435,15 +435,12 @@ fn shortest_seeds(
     // Per direction, shifts below which body 2 certainly still penetrates (the balls inside
     // closed meshes; 0 elsewhere): no sample there is tested, and a direction whose shift
     // reaches the bound is dropped untested.
+    #[cfg_attr(not(test), allow(unused_mut))]
+    let mut inner = penetrating_shifts(mesh1, pose1, mesh2, pose2, &dirs);
     #[cfg(test)]
-    let balls = BALLS.with(|c| c.get());
-    #[cfg(not(test))]
-    let balls = true;
-    let inner = if balls {
-        penetrating_shifts(mesh1, pose1, mesh2, pose2, &dirs)
-    } else {
-        vec![0.0; dirs.len()]
-    };
+    if !BALL_SHIFTS.with(|c| c.get()) {
+        inner.fill(0.0);
+    }
     // Each direction's last intersecting pair, the pose's own at first.
     let mut hints = vec![hint; dirs.len()];
     // Per direction, a shift its current intersecting pair meets at (-inf until computed).
@@ -998,13 +995,18 @@ mod tests {
 
     /// The balls' shifts only skip samples that penetrate and directions that could not be
     /// kept: with and without them, the same depths, translations and statuses bit for bit on
-    /// knot pairs pushed in by 1%, 5% and 20% of the radius (the shifts are positive there).
+    /// knot pairs pushed in by 1%, 5% and 20% of the radius (the knot has balls, so the
+    /// shifts are in use).
     #[test]
     fn ball_shifts_change_no_answer() {
+        assert!(!mesh::torus_knot(100, 8)
+            .expect("knot")
+            .inscribed_balls()
+            .is_empty());
         let queries = |on: bool| {
-            BALLS.with(|c| c.set(on));
+            BALL_SHIFTS.with(|c| c.set(on));
             let answers = pushed_in_answers();
-            BALLS.with(|c| c.set(true));
+            BALL_SHIFTS.with(|c| c.set(true));
             answers
         };
         assert_eq!(queries(true), queries(false));
