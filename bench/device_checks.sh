@@ -1,5 +1,5 @@
 #!/bin/bash
-# The checks the twenty-fifth session ran on the lent device machine (H100, 16 cores), kept so a
+# The checks the twenty-fifth and thirty-third sessions ran on the lent device machine (H100, 16 cores), kept so a
 # later session with a device can run them again at once. Prepare here, on the development
 # machine (the device has no Rust, no ray and no network):
 #
@@ -42,3 +42,6 @@ cp crates/tocsin-py/python/tocsin/*.py /tmp/site/tocsin/
 export PYTHONPATH=/tmp/site RAY_AUTH_MODE=disabled PYTHONUNBUFFERED=1
 python3 -c "import ray, tocsin, numpy; print('ray', ray.__version__, 'numpy', numpy.__version__)" 2>&1 | tail -2
 timeout ${RAY_LIMIT:-260} python3 bench/ray_throughput.py --scaling 2>&1 | grep -v WARNING | tee $O/ray.txt
+# The same with a batch four times as large, one timed call per CPU count: the per-call cost of
+# Ray (its tasks' start and the results' return) spread over more work.
+timeout ${RAY_BIG_LIMIT:-200} python3 bench/ray_throughput.py --scaling --queries 64000 --repeats 1 2>&1 | grep -v WARNING | tee $O/ray_big.txt
