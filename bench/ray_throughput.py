@@ -15,6 +15,9 @@ count (default chunk size; the first call of each cluster, on at most 16,000 row
 then the median of `--repeats R` (3)), beside the local batch on as many threads; the speedup is
 against Ray on 1 CPU.
 
+`--threads-per-task` instead: the same batch with tasks of 1, 4 and all of a cluster's CPUs
+(`threads_per_task`), beside a multiprocessing pool of single-threaded processes.
+
 Run: `python bench/ray_throughput.py [--scaling]` (needs ray: `pip install "tocsin[ray]"`).
 """
 
@@ -174,8 +177,86 @@ def scaling():
               f"{local_base / here:.1f}x | {warm / here:.2f} |", flush=True)
 
 
+def _pool_init():
+    global _KNOT
+    _KNOT = tocsin.Mesh.torus_knot(344, 50)
+
+
+def _pool_chunk(args):
+    s, e = args
+    return tocsin.time_of_contact_batch(_KNOT, s, e, _KNOT, kind="screw").time
+
+
+def threads_per_task():
+    """`--threads-per-task`: at each CPU count, tasks of 1, 4 and all the cluster's CPUs (each
+    task's rayon pool as wide), beside the local batch and a multiprocessing pool of
+    single-threaded processes (each with its own copy of the meshes, as Ray's workers have)."""
+    import multiprocessing
+
+    import ray
+    from tocsin import distributed
+
+    queries = option("--queries", 16000)
+    repeats = option("--repeats", 3)
+    knot = tocsin.Mesh.torus_knot(344, 50)
+    starts, ends = motions(queries, 1)
+    reference = tocsin.time_of_contact_batch(knot, starts, ends, knot, kind="screw")
+    cores = os.cpu_count() or 1
+    counts = [c for c in (1, 2, 4, 8, 16, 32, 64) if c <= cores]
+    print(f"machine: {platform.processor() or platform.machine()}, {cores} CPUs; "
+          f"{queries:,} knot34k screw motions; median of {repeats}")
+    local_times = {c: local(c, None, queries) for c in (1, cores)}
+    print(f"local batch: 1 thread {local_times[1]:.3f} s, {cores} threads {local_times[cores]:.3f} s "
+          f"({local_times[1] / local_times[cores]:.1f}x)", flush=True)
+    # The same work in a pool of single-threaded processes, eight chunks per process.
+    saved = os.environ.get("RAYON_NUM_THREADS")
+    os.environ["RAYON_NUM_THREADS"] = "1"
+    ctx = multiprocessing.get_context("spawn")
+    with ctx.Pool(cores, initializer=_pool_init) as pool:
+        step = -(-queries // (8 * cores))
+        chunks = [(starts[a:a + step], ends[a:a + step]) for a in range(0, queries, step)]
+        pool.map(_pool_chunk, chunks[:cores])
+        ts = []
+        for _ in range(repeats):
+            t = time.perf_counter()
+            got = np.concatenate(pool.map(_pool_chunk, chunks))
+            ts.append(time.perf_counter() - t)
+            assert np.array_equal(got, reference.time, equal_nan=True)
+    if saved is None:
+        del os.environ["RAYON_NUM_THREADS"]
+    else:
+        os.environ["RAYON_NUM_THREADS"] = saved
+    pool_time = float(np.median(ts))
+    print(f"multiprocessing pool, {cores} single-threaded processes: {pool_time:.3f} s "
+          f"({local_times[1] / pool_time:.1f}x the local batch on 1 thread)", flush=True)
+    print("| CPUs | threads per task | Ray first call (s) | Ray (s) | speedup over Ray on 1 CPU | Ray / local batch on as many threads |")
+    print("|---:|---:|---:|---:|---:|---:|")
+    base = None
+    for cpus in counts:
+        ray.init(num_cpus=cpus, include_dashboard=False, log_to_driver=False)
+        widths = sorted({w for w in (1, 2, 4, 8, cpus) if w <= cpus and (w in (1, 4, cpus) or cpus == cores)})
+        for w in widths:
+            t = time.perf_counter()
+            cold = distributed.time_of_contact_batch(knot, starts, ends, knot, kind="screw", threads_per_task=w)
+            first = time.perf_counter() - t
+            assert np.array_equal(cold.time, reference.time, equal_nan=True)
+            ts = []
+            for _ in range(repeats):
+                t = time.perf_counter()
+                r = distributed.time_of_contact_batch(knot, starts, ends, knot, kind="screw", threads_per_task=w)
+                ts.append(time.perf_counter() - t)
+                assert np.array_equal(r.time, reference.time, equal_nan=True)
+            warm = float(np.median(ts))
+            base = base or warm
+            ratio = f"{warm / local_times[cpus]:.2f}" if cpus in local_times else "-"
+            print(f"| {cpus} | {w} | {first:.2f} | {warm:.3f} | {base / warm:.1f}x | {ratio} |", flush=True)
+        ray.shutdown()
+
+
 if __name__ == "__main__":
     if "--scaling" in sys.argv:
         scaling()
+    elif "--threads-per-task" in sys.argv:
+        threads_per_task()
     else:
         main()

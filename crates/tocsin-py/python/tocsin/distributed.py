@@ -193,6 +193,7 @@ def _run(
     address: Optional[str],
     progress: bool,
     max_retries: int,
+    threads_per_task: int = 1,
 ):
     """The chunked run of ``fn`` (module docs); results in input order."""
     if count == 0:
@@ -202,19 +203,32 @@ def _run(
         return fn(**kwargs)
     if chunk_size is not None and (not isinstance(chunk_size, (int, np.integer)) or chunk_size < 1):
         raise DistributedError(f"chunk_size must be a positive integer, got {chunk_size!r}")
+    if (
+        isinstance(threads_per_task, bool)
+        or not isinstance(threads_per_task, (int, np.integer))
+        or threads_per_task < 1
+    ):
+        raise DistributedError(f"threads_per_task must be a positive integer, got {threads_per_task!r}")
+    threads = int(threads_per_task)
     connect(address)
     ray = _ray()
+    widest = max((n["Resources"].get("CPU", 0) for n in ray.nodes() if n.get("Alive")), default=0)
+    if threads > widest:
+        # Ray would wait forever for a node with that many CPUs.
+        raise DistributedError(
+            f"threads_per_task={threads} but the largest node of the cluster has {widest:g} CPUs"
+        )
     if chunk_size is None:
         cpus = max(1, int(ray.cluster_resources().get("CPU", 1)))
-        chunk_size = max(1, min(DEFAULT_CHUNK, -(-count // (8 * cpus))))
+        chunk_size = max(1, min(DEFAULT_CHUNK, -(-count // (8 * max(1, cpus // threads)))))
     chunk_size = int(chunk_size)
     refs = {name: _share(ray, obj) for name, obj in shared.items()}
-    # One core per task, as Ray counts it: the worker's own thread pool is one thread.
+    # A task takes as many of Ray's CPUs as its worker's own thread pool has threads.
     task = _remote(ray).options(
-        num_cpus=1,
+        num_cpus=threads,
         max_retries=max_retries,
         retry_exceptions=True,
-        runtime_env={"env_vars": {"RAYON_NUM_THREADS": "1"}},
+        runtime_env={"env_vars": {"RAYON_NUM_THREADS": str(threads)}},
     )
     bounds = [(a, min(a + chunk_size, count)) for a in range(0, count, chunk_size)]
     futures = [
@@ -283,12 +297,13 @@ def distance_batch(
     address: Optional[str] = None,
     progress: bool = False,
     max_retries: int = 3,
+    threads_per_task: int = 1,
 ) -> _batch.DistanceBatch:
     """``tocsin.distance_batch`` on the Ray cluster: identical results, in input order."""
     rows, fixed, count = _split({"poses1": poses1, "poses2": poses2})
     fixed.update({"relative_error": relative_error, "absolute_error": absolute_error})
     return _run(_batch.distance_batch, {"mesh1": mesh1, "mesh2": mesh2}, rows, fixed, count,
-                chunk_size, address, progress, max_retries)
+                chunk_size, address, progress, max_retries, threads_per_task)
 
 
 def collide_batch(
@@ -301,11 +316,12 @@ def collide_batch(
     address: Optional[str] = None,
     progress: bool = False,
     max_retries: int = 3,
+    threads_per_task: int = 1,
 ) -> np.ndarray:
     """``tocsin.collide_batch`` on the Ray cluster: identical results, in input order."""
     rows, fixed, count = _split({"poses1": poses1, "poses2": poses2})
     return _run(_batch.collide_batch, {"mesh1": mesh1, "mesh2": mesh2}, rows, fixed, count,
-                chunk_size, address, progress, max_retries)
+                chunk_size, address, progress, max_retries, threads_per_task)
 
 
 def time_of_contact_batch(
@@ -324,11 +340,12 @@ def time_of_contact_batch(
     address: Optional[str] = None,
     progress: bool = False,
     max_retries: int = 3,
+    threads_per_task: int = 1,
 ) -> _batch.ContactBatch:
     """``tocsin.time_of_contact_batch`` on the Ray cluster: identical results, in input order."""
     options = dict(kind=kind, tolerance=tolerance, max_iterations=max_iterations, contact_pair=contact_pair)
     return _motions_run(_batch.time_of_contact_batch, (mesh1, mesh2), (starts1, ends1), (starts2, ends2),
-                        options, (chunk_size, address, progress, max_retries))
+                        options, (chunk_size, address, progress, max_retries, threads_per_task))
 
 
 def motion_is_free_batch(
@@ -346,17 +363,18 @@ def motion_is_free_batch(
     address: Optional[str] = None,
     progress: bool = False,
     max_retries: int = 3,
+    threads_per_task: int = 1,
 ) -> _batch.FreeBatch:
     """``tocsin.motion_is_free_batch`` on the Ray cluster: identical results, in input order."""
     options = dict(kind=kind, tolerance=tolerance, max_iterations=max_iterations)
     return _motions_run(_batch.motion_is_free_batch, (mesh1, mesh2), (starts1, ends1), (starts2, ends2),
-                        options, (chunk_size, address, progress, max_retries))
+                        options, (chunk_size, address, progress, max_retries, threads_per_task))
 
 
 def _motions_run(fn, meshes, body1, body2, options, running):
     """A motion batch (``fn``, the local one) run as chunks of its rows: body 1's and body 2's
     (starts, ends), the batch's keyword options (kind, tolerance, max_iterations, ...), and the
-    run's (chunk_size, address, progress, max_retries)."""
+    run's (chunk_size, address, progress, max_retries, threads_per_task)."""
     starts2, ends2 = _batch._body2_motions(*body2)
     rows, fixed, count = _split({"starts1": body1[0], "ends1": body1[1], "starts2": starts2, "ends2": ends2})
     fixed.update(options)
@@ -383,6 +401,7 @@ def paths_are_free(
     address: Optional[str] = None,
     progress: bool = False,
     max_retries: int = 3,
+    threads_per_task: int = 1,
 ) -> np.ndarray:
     """``Robot.paths_are_free`` (exact joint-space edge checks) on the Ray cluster."""
     a, b = np.asarray(q0s, dtype=np.float64), np.asarray(q1s, dtype=np.float64)
@@ -391,7 +410,7 @@ def paths_are_free(
     shared = {"robot": robot, "scene": scene if scene is not None else Scene()}
     fixed = {"tolerance": tolerance, "max_iterations": max_iterations}
     return _run(_robot_paths, shared, {"q0s": a, "q1s": b}, fixed, len(a), chunk_size, address,
-                progress, max_retries)
+                progress, max_retries, threads_per_task)
 
 
 def check_configurations(
@@ -403,6 +422,7 @@ def check_configurations(
     address: Optional[str] = None,
     progress: bool = False,
     max_retries: int = 3,
+    threads_per_task: int = 1,
 ) -> np.ndarray:
     """``Robot.check_configurations`` (exact collision of each configuration) on the cluster."""
     q = np.asarray(qs, dtype=np.float64)
@@ -410,7 +430,7 @@ def check_configurations(
         raise DistributedError(f"qs must be (N, dof), got {q.shape}")
     shared = {"robot": robot, "scene": scene if scene is not None else Scene()}
     return _run(_robot_configurations, shared, {"qs": q}, {}, len(q), chunk_size, address,
-                progress, max_retries)
+                progress, max_retries, threads_per_task)
 
 
 class WorldContacts(NamedTuple):
@@ -462,6 +482,7 @@ def first_contacts(
     address: Optional[str] = None,
     progress: bool = False,
     max_retries: int = 3,
+    threads_per_task: int = 1,
 ) -> list:
     """``World.first_contacts`` of many worlds (one step each: a dataset of scenes) on the Ray
     cluster: a list of :class:`WorldContacts`, one per world, in input order, identical to
@@ -470,7 +491,7 @@ def first_contacts(
     worlds = list(worlds)
     fixed = {"tolerance": tolerance, "max_iterations": max_iterations}
     return _run(_worlds, {}, {"worlds": worlds}, fixed, len(worlds), chunk_size, address,
-                progress, max_retries)
+                progress, max_retries, threads_per_task)
 
 
 def _mesh_from(data, prefix: str) -> Mesh:
