@@ -16,7 +16,9 @@ then the median of `--repeats R` (3)), beside the local batch on as many threads
 against Ray on 1 CPU.
 
 `--threads-per-task` instead: the same batch with tasks of 1, 4 and all of a cluster's CPUs
-(`threads_per_task`), beside a multiprocessing pool of single-threaded processes.
+(`threads_per_task`; `--widths 1,2` to choose), `--per 8` tasks per slot (a slot: a task's
+width of the cluster's CPUs), `--counts 1,16` clusters, beside a multiprocessing pool of
+single-threaded processes.
 
 Run: `python bench/ray_throughput.py [--scaling]` (needs ray: `pip install "tocsin[ray]"`).
 """
@@ -202,7 +204,9 @@ def threads_per_task():
     starts, ends = motions(queries, 1)
     reference = tocsin.time_of_contact_batch(knot, starts, ends, knot, kind="screw")
     cores = os.cpu_count() or 1
-    counts = [c for c in (1, 2, 4, 8, 16, 32, 64) if c <= cores]
+    counts = [int(c) for c in option("--counts", "1,2,4,8,16,32,64").split(",") if int(c) <= cores]
+    chosen = option("--widths", "")
+    pers = [int(p) for p in option("--per", "8").split(",")]
     print(f"machine: {platform.processor() or platform.machine()}, {cores} CPUs; "
           f"{queries:,} knot34k screw motions; median of {repeats}")
     local_times = {c: local(c, None, queries) for c in (1, cores)}
@@ -229,27 +233,34 @@ def threads_per_task():
     pool_time = float(np.median(ts))
     print(f"multiprocessing pool, {cores} single-threaded processes: {pool_time:.3f} s "
           f"({local_times[1] / pool_time:.1f}x the local batch on 1 thread)", flush=True)
-    print("| CPUs | threads per task | Ray first call (s) | Ray (s) | speedup over Ray on 1 CPU | Ray / local batch on as many threads |")
-    print("|---:|---:|---:|---:|---:|---:|")
+    print("| CPUs | threads per task | tasks per slot | Ray first call (s) | Ray (s) | speedup over Ray on 1 CPU | Ray / local batch on as many threads |")
+    print("|---:|---:|---:|---:|---:|---:|---:|")
     base = None
     for cpus in counts:
         ray.init(num_cpus=cpus, include_dashboard=False, log_to_driver=False)
-        widths = sorted({w for w in (1, 2, 4, 8, cpus) if w <= cpus and (w in (1, 4, cpus) or cpus == cores)})
+        if chosen:
+            widths = [int(w) for w in chosen.split(",") if int(w) <= cpus]
+        else:
+            widths = sorted({w for w in (1, 2, 4, 8, cpus) if w <= cpus and (w in (1, 4, cpus) or cpus == cores)})
         for w in widths:
             t = time.perf_counter()
             cold = distributed.time_of_contact_batch(knot, starts, ends, knot, kind="screw", threads_per_task=w)
             first = time.perf_counter() - t
             assert np.array_equal(cold.time, reference.time, equal_nan=True)
-            ts = []
+            ts = {p: [] for p in pers}
             for _ in range(repeats):
-                t = time.perf_counter()
-                r = distributed.time_of_contact_batch(knot, starts, ends, knot, kind="screw", threads_per_task=w)
-                ts.append(time.perf_counter() - t)
-                assert np.array_equal(r.time, reference.time, equal_nan=True)
-            warm = float(np.median(ts))
-            base = base or warm
-            ratio = f"{warm / local_times[cpus]:.2f}" if cpus in local_times else "-"
-            print(f"| {cpus} | {w} | {first:.2f} | {warm:.3f} | {base / warm:.1f}x | {ratio} |", flush=True)
+                for p in pers:
+                    chunk = -(-queries // (p * max(1, cpus // w)))
+                    t = time.perf_counter()
+                    r = distributed.time_of_contact_batch(knot, starts, ends, knot, kind="screw",
+                                                          threads_per_task=w, chunk_size=chunk)
+                    ts[p].append(time.perf_counter() - t)
+                    assert np.array_equal(r.time, reference.time, equal_nan=True)
+            for p in pers:
+                warm = float(np.median(ts[p]))
+                base = base or warm
+                ratio = f"{warm / local_times[cpus]:.2f}" if cpus in local_times else "-"
+                print(f"| {cpus} | {w} | {p} | {first:.2f} | {warm:.3f} | {base / warm:.1f}x | {ratio} |", flush=True)
         ray.shutdown()
 
 
