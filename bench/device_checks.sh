@@ -51,4 +51,4 @@ case " $RUNS " in *" big "*)
 timeout ${RAY_BIG_LIMIT:-200} python3 bench/ray_throughput.py --scaling --queries 64000 --repeats 1 2>&1 | grep -v WARNING | tee $O/ray_big.txt ;; esac
 # Tasks as wide as 1, 4 or all of a cluster's CPUs, and a pool of single-threaded processes.
 case " $RUNS " in *" threads "*)
-timeout ${RAY_THREADS_LIMIT:-240} python3 bench/ray_throughput.py --threads-per-task ${RAY_THREADS_ARGS:-} 2>timeout ${RAY_THREADS_LIMIT:-240} python3 bench/ray_throughput.py --threads-per-task 2>&11 | grep -v WARNING | tee $O/ray_threads.txt ;; esac
+timeout ${RAY_THREADS_LIMIT:-240} python3 bench/ray_throughput.py --threads-per-task ${RAY_THREADS_ARGS:-} 2>&1 | grep -v WARNING | tee $O/ray_threads.txt ;; esac
