@@ -218,3 +218,30 @@ def test_many_worlds(cluster):
             same(g, l)
     assert sum(len(l.time) for l in local) > 9
     assert distributed.first_contacts([]) == []
+
+
+def test_tasks_as_wide_as_threads_per_task(cluster):
+    def width(rows):
+        """A chunk's view of its task: the CPUs Ray gave it and its pool's width, per row (a
+        nested function, so the workers get it by value)."""
+        cpus = ray.get_runtime_context().get_assigned_resources().get("CPU")
+        return [(cpus, os.environ.get("RAYON_NUM_THREADS"))] * len(rows)
+
+    knot = tocsin.Mesh.torus_knot(120, 10)
+    poses, ends = knot_poses(30, 4), knot_poses(30, 5)
+    local = tocsin.time_of_contact_batch(knot, poses, ends, knot, kind="screw")
+    for threads in (1, 2):
+        for chunk in (4, None):
+            same(distributed.time_of_contact_batch(knot, poses, ends, knot, kind="screw", chunk_size=chunk,
+                                                   threads_per_task=threads), local)
+        seen = distributed._run(width, {}, {"rows": np.arange(10)}, {}, 10, 3, None, False, 0, threads)
+        assert seen == [(float(threads), str(threads))] * 10
+
+
+@pytest.mark.parametrize("threads", [0, -1, 1.5, True, "2", 3])
+def test_a_bad_or_too_wide_threads_per_task_is_a_clear_error(cluster, threads):
+    knot = tocsin.Mesh.torus_knot(120, 10)
+    poses = knot_poses(4, 6)
+    # 3 is wider than the 2-CPU cluster's only node: Ray would wait for it forever.
+    with pytest.raises(distributed.DistributedError, match="threads_per_task"):
+        distributed.distance_batch(knot, poses, knot, np.eye(4), threads_per_task=threads)

@@ -8,7 +8,10 @@ chunks of rows; each chunk runs as a Ray task calling the local batch function, 
 chunks' results are put back together
 in input order: the answer is identical, bit for bit, to the local batch's. A task takes one of
 Ray's CPUs and runs its chunk on one thread (``RAYON_NUM_THREADS=1`` in the workers), so a
-cluster of N CPUs runs N chunks at once.
+cluster of N CPUs runs N chunks at once. With ``threads_per_task=k`` a task takes k CPUs and
+runs its chunk on k threads (fewer worker processes: on one 16-CPU node, k=2 measured 11.3x
+the one-CPU throughput twice, where k=1 gave 7.6x to 12.0x; docs/BENCHMARKS.md); a k larger
+than every node's CPU count is an error, since Ray would wait for such a node forever.
 
 Meshes, robots and scenes go into Ray's object store once per call (``ray.put``), not once per
 task; a worker process unpickles each of them (rebuilding a mesh's hierarchy: 34 ms for the
