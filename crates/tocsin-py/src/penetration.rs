@@ -208,9 +208,12 @@ impl PenetrationResult {
 /// translation (on random overlapping boxes within 0.17% of the exact depth at the median,
 /// 1.9% at worst). Two closed convex meshes get the exact global depth instead (result.exact;
 /// exact_convex=False runs the local search on them too). `cached_direction` (3,) is tried first
-/// (coherence between frames). Status 'separated' (depth 0) when they do not penetrate.
+/// (coherence between frames). `starts` (default 2, at least 1): how many of the seeds' shortest
+/// touching translations are refined at deep penetrations; 3 found a 0-6% shorter depth on 9 of
+/// 81 deep queries at about 1.2-1.4x the time. Status 'separated' (depth 0) when they do not
+/// penetrate.
 #[pyfunction]
-#[pyo3(signature = (mesh1, pose1, mesh2, pose2, tolerance=None, max_iterations=None, directions=None, cached_direction=None, exact_convex=true))]
+#[pyo3(signature = (mesh1, pose1, mesh2, pose2, tolerance=None, max_iterations=None, directions=None, cached_direction=None, exact_convex=true, starts=None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn penetration_depth(
     py: Python<'_>,
@@ -223,6 +226,7 @@ pub(crate) fn penetration_depth(
     directions: Option<&Bound<'_, PyAny>>,
     cached_direction: Option<&Bound<'_, PyAny>>,
     exact_convex: bool,
+    starts: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<PenetrationResult> {
     let (p1, p2) = (pose_from(pose1, "pose1")?, pose_from(pose2, "pose2")?);
     let defaults = DepthOptions::default();
@@ -245,6 +249,10 @@ pub(crate) fn penetration_depth(
             None => None,
         },
         exact_convex,
+        starts: match starts {
+            Some(m) => count(py, m, "starts", 1, "OptionsError")?,
+            None => defaults.starts,
+        },
     };
     let (m1, m2) = (mesh1.inner.clone(), mesh2.inner.clone());
     let r = py

@@ -112,6 +112,31 @@ def test_penetration_depth_of_boxes_and_its_guarantee():
     assert s.status == "separated" and s.depth == 0.0
     with pytest.raises(tocsin.OptionsError):
         tocsin.penetration_depth(b1, np.eye(4), b2, np.eye(4), tolerance=-1.0)
+    for starts in (0, -1, 1.5):
+        with pytest.raises(tocsin.OptionsError):
+            tocsin.penetration_depth(b1, np.eye(4), b2, np.eye(4), exact_convex=False, starts=starts)
+
+
+def test_more_starts_never_give_a_deeper_answer():
+    knot = tocsin.Mesh.torus_knot(100, 8)
+    rng = np.random.default_rng(8)
+    shallower = 0
+    for _ in range(12):
+        pose = np.eye(4)
+        pose[:3, :3] = trimesh.transformations.random_rotation_matrix(rng.random(3))[:3, :3]
+        pose[:3, 3] = rng.normal(size=3) * 0.3 * knot.bounding_radius
+        if not tocsin.collide(knot, np.eye(4), knot, pose):
+            continue
+        depths = []
+        for starts in (1, 2, 3):
+            r = tocsin.penetration_depth(knot, np.eye(4), knot, pose, starts=starts)
+            after = pose.copy()
+            after[:3, 3] += r.translation
+            assert not tocsin.collide(knot, np.eye(4), knot, after)
+            depths.append(r.depth)
+        assert depths[2] <= depths[1] * (1 + 1e-12) and depths[1] <= depths[0] * (1 + 1e-12)
+        shallower += depths[2] < depths[0] * (1 - 1e-12)
+    assert shallower > 0
 
 
 def test_pointwise_penetration_of_overlapping_cubes():

@@ -23,11 +23,12 @@
 //!    `contact_time::cast` (one best-first traversal for the first pair within half the
 //!    tolerance, exact per triangle pair), seeded with the direction's last intersecting pair
 //!    (knot2.8k: 2%, 11% and 20% fewer instructions at 1%, 5% and 20% of the radius than the
-//!    advancement). The shortest three are refined, or only the shortest when it is
-//!    shorter than a tenth (`SHALLOW`) of the smaller bounding radius. Five savings change no
-//!    answer: a direction is dropped as soon as one of its samples still penetrates beyond the
-//!    third shortest translation found so far (the shortest, once shallow; the motion back from
-//!    the free sample passes through that sample, so its translation would be longer); the
+//!    advancement). The shortest `starts` (two by default) are refined, or only the shortest
+//!    when it is shorter than a tenth (`SHALLOW`) of the smaller bounding radius. Five savings
+//!    change no answer: a direction is dropped as soon as one of its samples still penetrates
+//!    beyond the `starts`-th shortest translation found so far (the shortest, once shallow;
+//!    the motion back from the free sample passes through that sample, so its translation
+//!    would be longer); the
 //!    directions are sampled breadth first (every live direction's k-th sample before any
 //!    next one), so the directions that free up soonest set that bound early; the continuous
 //!    queries of the directions freed at one sample run after that round's samples, and not at
@@ -68,8 +69,8 @@
 //!    for the candidates that are not shorter, depths the same on 141 of 144 queries and
 //!    within 0.5% on the others; then 3%, 3% and 8% for the new bests too, depths within
 //!    0.03%; taking the seeds' normals from their pairs as well lost the polish's 1e-3 gap on
-//!    a shallow test case). The second and third starts (deep penetrations) take theirs from
-//!    their pairs; the shortest keeps the exact one (callgrind, `profile_depth` at 20% of the
+//!    a shallow test case). The other starts (deep penetrations) take theirs from their
+//!    pairs; the shortest keeps the exact one (callgrind, `profile_depth` at 20% of the
 //!    radius: knot2.8k 303.3M -> 291.2M, knot11k 453.1M -> 433.6M, duck 281.2M -> 263.3M; no
 //!    depth longer, two of 96 shorter, by 0.9% and 4.1%. All three from their pairs took 6 to
 //!    9% off but left one knot11k query 30% deeper).
@@ -151,6 +152,16 @@ pub struct DepthOptions {
     /// Answer convex pairs exactly ([`super::convex`]). Default true; false runs the local
     /// search on them too (to measure it).
     pub exact_convex: bool,
+    /// How many of the seeds' shortest touching translations are refined (at least 1), where
+    /// no seed is shallow (a shallow one is refined alone, module docs). Default 2. Measured on
+    /// 96 queries at 20% of the radius (knot2.8k, knot11k, the bunny, the duck; 81 of them
+    /// refine several starts): the third start ended shortest in 9 of the 81, by 0.0 to 6.2%
+    /// (a local search: each start finds its own optimum), and its refinement and the looser
+    /// pruning of the seeds it needs cost 19% of the instructions on knot2.8k;
+    /// `bench/penetration_grid.py` at 20%, 3 starts -> 2: knot2.8k 1.08 -> 0.92 ms, the duck
+    /// 1.02 -> 0.79, knot34k 1.94 -> 1.38, the within-1% count 43 -> 42 of 47. 3 buys
+    /// those percents back at that cost.
+    pub starts: usize,
 }
 
 impl Default for DepthOptions {
@@ -161,6 +172,7 @@ impl Default for DepthOptions {
             directions: 32,
             cached_direction: None,
             exact_convex: true,
+            starts: 2,
         }
     }
 }
@@ -412,12 +424,12 @@ fn come_back(
     )
 }
 
-/// The shortest [`STARTS`] touching translations over the seed directions (ties in seed
+/// The shortest `starts` touching translations over the seed directions (ties in seed
 /// order), or only the shortest once one shorter than `shallow` is found ([`SHALLOW`]), found
 /// breadth first: every live direction's `k`-th sample is tested before any direction's next
 /// one, so that the directions that free up soonest set the bound early; a direction whose
-/// penetrating sample lies beyond the current third shortest translation (the shortest, once
-/// shallow) is dropped (its own would be longer). The same set as out-projecting every
+/// penetrating sample lies beyond the current `starts`-th shortest translation (the shortest,
+/// once shallow) is dropped (its own would be longer). The same set as out-projecting every
 /// direction in full.
 #[allow(clippy::too_many_arguments)]
 fn shortest_seeds(
@@ -430,6 +442,7 @@ fn shortest_seeds(
     options: &ContactOptions,
     hint: Option<(u32, u32)>,
     shallow: f64,
+    starts: usize,
 ) -> Result<Vec<Pending>, ContactError> {
     let dirs: Vec<Option<Vec3>> = seeds.iter().map(|d| d.try_normalize()).collect();
     // Per direction, shifts below which body 2 certainly still penetrates (the balls inside
@@ -449,8 +462,8 @@ fn shortest_seeds(
     let mut kept: Vec<(usize, Pending)> = Vec::new();
     let bound = |kept: &[(usize, Pending)]| match kept.first() {
         Some((_, p)) if p.length() < shallow => p.length(),
-        _ if kept.len() < STARTS => f64::INFINITY,
-        _ => kept[STARTS - 1].1.length(),
+        _ if kept.len() < starts => f64::INFINITY,
+        _ => kept[starts - 1].1.length(),
     };
     for k in 1..=RAY_SAMPLES {
         let s = sample(far, k);
@@ -493,7 +506,7 @@ fn shortest_seeds(
         }
         // A freed direction's touching translation is longer than its last penetrating sample
         // (the motion back passes through it, and stops before any contact): at or beyond the
-        // third shortest (the shortest, once shallow), its query is skipped
+        // `starts`-th shortest (the shortest, once shallow), its query is skipped
         // (knot2.8k at 1% and 5%: 4 to 6% fewer instructions, the same depths bit for bit).
         for (i, d) in freed {
             if last >= bound(&kept) {
@@ -512,7 +525,7 @@ fn shortest_seeds(
                 let key = (p.length(), i);
                 let at = kept.partition_point(|(j, q)| (q.length(), *j) <= key);
                 kept.insert(at, (i, p));
-                kept.truncate(STARTS);
+                kept.truncate(starts);
             }
         }
         alive = still_alive;
@@ -780,18 +793,15 @@ fn polish(
     }
 }
 
-/// Seeds refined: the shortest few touching translations of the out-projections.
-const STARTS: usize = 3;
-
 /// A seed translation shorter than this fraction of the smaller bounding radius is refined
 /// alone: the other starts are neither kept nor refined, and the seeds' samples are pruned
-/// against it rather than against the third shortest. Measured on `bench/penetration_grid.py`
+/// against it rather than against the `starts`-th shortest. Measured on `bench/penetration_grid.py`
 /// (18 cells of 8 queries: 6 models at 1%, 5% and 20% of the radius), one start against
 /// three at 1% and 5%: the same number of queries within 1% of the sampled-direction bound in
 /// every cell, depths within 2% of the three starts' either way (the starts are ranked before
 /// the polish, so one start is sometimes shorter), at 1.2 to 1.7 times less time. One start
 /// at 20% too lost 5 of 48 queries from within 1% (139 -> 134 of 143): deep penetrations keep
-/// all three starts.
+/// all their starts (`DepthOptions::starts`; these figures are from three).
 const SHALLOW: f64 = 0.1;
 
 /// Translational penetration depth of `mesh2` (placed by `pose2`) into `mesh1` (module docs).
@@ -809,6 +819,14 @@ pub fn penetration_depth(
         tolerance: options.tolerance,
         ..ContactOptions::default()
     };
+    if options.starts == 0 {
+        return Err(crate::OptionsError::OutOfRange {
+            name: "starts",
+            requirement: "must be at least 1",
+            value: 0.0,
+        }
+        .into());
+    }
     if let Some(t) = options.tolerance {
         if !(t.is_finite() && t > 0.0) {
             return Err(crate::OptionsError::OutOfRange {
@@ -907,6 +925,7 @@ pub fn penetration_depth(
         &contact_options,
         hint,
         SHALLOW * mesh1.bounding_radius().min(mesh2.bounding_radius()),
+        options.starts,
     )?;
     let touches: Vec<Touch> = kept
         .into_iter()
@@ -1040,6 +1059,15 @@ mod tests {
     /// Penetration depths of a knot and a turned copy touching from outside along random
     /// directions, then pushed in by 1%, 5% and 20% of the radius (60 queries).
     fn pushed_in_answers() -> Vec<(Vec3, u64, DepthStatus)> {
+        pushed_in(&DepthOptions::default())
+            .into_iter()
+            .map(|d| (d.translation, d.depth.to_bits(), d.status))
+            .collect()
+    }
+
+    /// [`penetration_depth`] with `depth_options` on 60 knot pairs pushed in by 1%, 5% and 20% of
+    /// the radius.
+    fn pushed_in(depth_options: &DepthOptions) -> Vec<PenetrationDepth> {
         let m = mesh::torus_knot(100, 8).expect("knot");
         let r = m.bounding_radius();
         let mut rng = ChaCha8Rng::seed_from_u64(11);
@@ -1059,11 +1087,49 @@ mod tests {
                 .expect("toc")
                 .expect("contact");
             let p2 = Pose::new(rot, u * (far * (1.0 - c.time) - f * r)).expect("pose");
-            let d = penetration_depth(&m, &Pose::IDENTITY, &m, &p2, &DepthOptions::default())
-                .expect("pd");
-            answers.push((d.translation, d.depth.to_bits(), d.status));
+            let d = penetration_depth(&m, &Pose::IDENTITY, &m, &p2, depth_options).expect("pd");
+            answers.push(d);
         }
         answers
+    }
+
+    /// More starts refine the same shortest seeds first and keep the shortest result, so the
+    /// depth never grows with them (to rounding); on these knots a third start sometimes finds a shallower
+    /// one (so the comparison is not vacuous), a single start sometimes a deeper one. Zero
+    /// starts is an options error.
+    #[test]
+    fn more_starts_never_give_a_deeper_answer() {
+        let with = |starts| {
+            pushed_in(&DepthOptions {
+                starts,
+                ..DepthOptions::default()
+            })
+        };
+        let (one, two, three) = (with(1), with(2), with(3));
+        let mut shallower = 0;
+        let mut deeper = 0;
+        // The seeds' continuous queries start from other hints with other starts: the same
+        // translations to rounding.
+        let below = |x: f64, y: f64| x < y * (1.0 - 1e-12);
+        for ((a, b), c) in one.iter().zip(&two).zip(&three) {
+            assert!(
+                !below(b.depth, c.depth) && !below(a.depth, b.depth),
+                "{a:?} {b:?} {c:?}"
+            );
+            shallower += usize::from(below(c.depth, b.depth));
+            deeper += usize::from(below(b.depth, a.depth));
+        }
+        assert!(shallower > 0 && deeper > 0, "{shallower} {deeper}");
+        let m = mesh::torus_knot(60, 6).expect("knot");
+        let p2 = Pose::new(crate::math::Mat3::IDENTITY, Vec3::new(0.1, 0.0, 0.0)).expect("pose");
+        let zero = DepthOptions {
+            starts: 0,
+            ..DepthOptions::default()
+        };
+        assert!(matches!(
+            penetration_depth(&m, &Pose::IDENTITY, &m, &p2, &zero),
+            Err(ContactError::Options(_))
+        ));
     }
 
     /// `holds_until` against dense sampling with the exact triangle test: on random
