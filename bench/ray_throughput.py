@@ -127,16 +127,22 @@ def option(name, default):
     return default
 
 
-def scaling():
-    import ray
-    from tocsin import distributed
-
+def workload():
+    """The scaling runs' batch from the command line: (queries, repeats, knot, starts, ends,
+    the local batch's answers, the machine's CPU count)."""
     queries = option("--queries", 16000)
     repeats = option("--repeats", 3)
     knot = tocsin.Mesh.torus_knot(344, 50)
     starts, ends = motions(queries, 1)
     reference = tocsin.time_of_contact_batch(knot, starts, ends, knot, kind="screw")
-    cores = os.cpu_count() or 1
+    return queries, repeats, knot, starts, ends, reference, os.cpu_count() or 1
+
+
+def scaling():
+    import ray
+    from tocsin import distributed
+
+    queries, repeats, knot, starts, ends, reference, cores = workload()
     counts = [c for c in (1, 2, 4, 8, 16, 32, 64) if c <= cores]
     print(f"machine: {platform.processor() or platform.machine()}, {cores} CPUs; "
           f"{queries:,} knot34k screw motions, {int(np.isfinite(reference.time).sum())} contacts; "
@@ -198,12 +204,7 @@ def threads_per_task():
     import ray
     from tocsin import distributed
 
-    queries = option("--queries", 16000)
-    repeats = option("--repeats", 3)
-    knot = tocsin.Mesh.torus_knot(344, 50)
-    starts, ends = motions(queries, 1)
-    reference = tocsin.time_of_contact_batch(knot, starts, ends, knot, kind="screw")
-    cores = os.cpu_count() or 1
+    queries, repeats, knot, starts, ends, reference, cores = workload()
     counts = [int(c) for c in option("--counts", "1,2,4,8,16,32,64").split(",") if int(c) <= cores]
     chosen = option("--widths", "")
     pers = [int(p) for p in option("--per", "8").split(",")]
