@@ -795,9 +795,9 @@ fn polish(
 
 /// A seed translation shorter than this fraction of the smaller bounding radius is refined
 /// alone: the other starts are neither kept nor refined, and the seeds' samples are pruned
-/// against it rather than against the `starts`-th shortest. Measured on `bench/penetration_grid.py`
-/// (18 cells of 8 queries: 6 models at 1%, 5% and 20% of the radius), one start against
-/// three at 1% and 5%: the same number of queries within 1% of the sampled-direction bound in
+/// against it rather than against the `starts`-th shortest. Measured on
+/// `bench/penetration_grid.py` (18 cells of 8 queries: 6 models at 1%, 5% and 20% of the
+/// radius), one start against three at 1% and 5%: the same number of queries within 1% of the sampled-direction bound in
 /// every cell, depths within 2% of the three starts' either way (the starts are ranked before
 /// the polish, so one start is sometimes shorter), at 1.2 to 1.7 times less time. One start
 /// at 20% too lost 5 of 48 queries from within 1% (139 -> 134 of 143): deep penetrations keep
@@ -1065,8 +1065,8 @@ mod tests {
             .collect()
     }
 
-    /// [`penetration_depth`] with `depth_options` on 60 knot pairs pushed in by 1%, 5% and 20% of
-    /// the radius.
+    /// [`penetration_depth`] with `depth_options` on 60 knot pairs pushed in by 1%, 5% and 20%
+    /// of the radius.
     fn pushed_in(depth_options: &DepthOptions) -> Vec<PenetrationDepth> {
         let m = mesh::torus_knot(100, 8).expect("knot");
         let r = m.bounding_radius();
@@ -1094,9 +1094,9 @@ mod tests {
     }
 
     /// More starts refine the same shortest seeds first and keep the shortest result, so the
-    /// depth never grows with them (to rounding); on these knots a third start sometimes finds a shallower
-    /// one (so the comparison is not vacuous), a single start sometimes a deeper one. Zero
-    /// starts is an options error.
+    /// depth never grows with them (to rounding); on these knots a third start sometimes finds
+    /// a shallower one (so the comparison is not vacuous), a single start sometimes a deeper
+    /// one. Zero starts is an options error.
     #[test]
     fn more_starts_never_give_a_deeper_answer() {
         let with = |starts| {
