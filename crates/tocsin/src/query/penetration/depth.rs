@@ -800,8 +800,9 @@ fn polish(
 /// radius), one start against three at 1% and 5%: the same number of queries within 1% of
 /// the sampled-direction bound in every cell, depths within 2% of the three starts' either way
 /// (the starts are ranked before the polish, so one start is sometimes shorter), at 1.2 to 1.7
-/// times less time. One start at 20% too lost 5 of 48 queries from within 1% (139 -> 134 of 143): deep penetrations keep
-/// all their starts (`DepthOptions::starts`; these figures are from three).
+/// times less time. One start at 20% too lost 5 of 48 queries from within 1% (139 -> 134 of
+/// 143): deep penetrations keep all their starts (`DepthOptions::starts`; these figures are
+/// from three).
 const SHALLOW: f64 = 0.1;
 
 /// Translational penetration depth of `mesh2` (placed by `pose2`) into `mesh1` (module docs).
