@@ -19,7 +19,9 @@
 //! Poses are 3, 6 or 16 numbers as on the command line; a missing pose is the identity and a
 //! missing motion keeps the body at the identity. `contact_time` takes `"contact_pair": true` to
 //! report the points of the triangle pair that ended the advancement (within the tolerance)
-//! instead of the meshes' closest points, which take one exact distance query more. Relative
+//! instead of the meshes' closest points, which take one exact distance query more;
+//! `penetration` takes `"tolerance"` and `"starts"` (the seeds refined at deep penetrations,
+//! default 2). Relative
 //! mesh paths are taken from the scene
 //! file's folder. A key given twice (a mesh name, a query field) is an error, not "the last
 //! one wins".
@@ -136,6 +138,7 @@ enum Query {
         pose1: Option<Vec<f64>>,
         pose2: Option<Vec<f64>>,
         tolerance: Option<f64>,
+        starts: Option<usize>,
     },
     Pointwise {
         mesh1: String,
@@ -293,10 +296,13 @@ pub fn run(path: &str) -> Result<Value, String> {
                 pose1,
                 pose2,
                 tolerance,
+                starts,
             } => {
+                let defaults = DepthOptions::default();
                 let opts = DepthOptions {
                     tolerance: *tolerance,
-                    ..Default::default()
+                    starts: starts.unwrap_or(defaults.starts),
+                    ..defaults
                 };
                 let (m1, p1, m2, p2) = placed(mesh1, pose1, mesh2, pose2)?;
                 let r = penetration_depth(m1, &p1, m2, &p2, &opts)

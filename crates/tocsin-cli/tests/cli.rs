@@ -595,6 +595,40 @@ fn penetration_pointwise_and_hausdorff() {
     ]);
     let v: serde_json::Value = serde_json::from_str(&out).unwrap();
     assert_eq!(v["status"], "separated");
+    // A knot through a turned copy: a third start is never deeper (to rounding), on the
+    // command line and in a scene file; no start at all is refused.
+    let depth_with = |starts: &str| {
+        let (code, out, err) = tocsin(&[
+            "penetration",
+            "builtin:knot2.8k",
+            "builtin:knot2.8k",
+            "--pose2",
+            "1.2,0.3,0,0.4,0,0",
+            "--starts",
+            starts,
+        ]);
+        assert_eq!(code, 0, "{err}");
+        let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+        v["depth"].as_f64().unwrap()
+    };
+    let (two, three) = (depth_with("2"), depth_with("3"));
+    assert!(three > 0.0 && three <= two * (1.0 + 1e-12), "{two} {three}");
+    let scene = r#"{ "meshes": { "k": "builtin:knot2.8k" }, "queries": [
+        { "query": "penetration", "mesh1": "k", "mesh2": "k", "pose2": [1.2, 0.3, 0, 0.4, 0, 0],
+          "starts": 3 } ] }"#;
+    let (code, out, err) = tocsin(&["run", &scene_file("starts.json", scene)]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["results"][0]["depth"].as_f64(), Some(three), "{out}");
+    let (code, _, err) = tocsin(&[
+        "penetration",
+        "builtin:knot2.8k",
+        "builtin:knot2.8k",
+        "--starts",
+        "0",
+    ]);
+    assert_eq!(code, 2);
+    assert!(err.contains("starts"), "{err}");
     let (code, out, _) = tocsin(&[
         "hausdorff",
         "builtin:box",
