@@ -10,7 +10,7 @@ smallest directional depth over 64 random directions plus u itself (the smallest
 copy moved by s v not penetrating: 64 samples, then 30 bisection steps, exact collide and the
 winding-number inside), an upper bound on the true depth.
 
-    python bench/penetration_grid.py [--queries 8] [--directions N] [--out FILE]
+    python bench/penetration_grid.py [--queries 8] [--directions N] [--starts K] [--out FILE]
 """
 
 import argparse
@@ -95,6 +95,7 @@ def main():
     parser.add_argument("--queries", type=int, default=8)
     parser.add_argument("--out")
     parser.add_argument("--directions", type=int, help="seed directions on the sphere (default: the library's)")
+    parser.add_argument("--starts", type=int, help="seeds refined at deep penetrations (default: the library's)")
     args = parser.parse_args()
     import pybullet_data
 
@@ -124,7 +125,7 @@ def main():
                     continue
                 p2, u, far = placed
                 t = time.perf_counter()
-                r = tocsin.penetration_depth(m, np.eye(4), m, p2, directions=args.directions)
+                r = tocsin.penetration_depth(m, np.eye(4), m, p2, directions=args.directions, starts=args.starts)
                 times.append(time.perf_counter() - t)
                 iters.append(r.iterations)
                 best = min(directional(m, p2, v, far) for v in [u] + [unit(rng) for _ in range(64)])
