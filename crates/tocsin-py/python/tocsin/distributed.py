@@ -13,6 +13,12 @@ runs its chunk on k threads (fewer worker processes: on one 16-CPU node, k=2 mea
 the one-CPU throughput twice, where k=1 gave 7.6x to 12.0x; docs/BENCHMARKS.md); a k larger
 than every node's CPU count is an error, since Ray would wait for such a node forever.
 
+Keywords every batch takes, after its own: ``chunk_size`` (rows per task; default an even
+split in eight tasks per slot of the cluster, at most :data:`DEFAULT_CHUNK` rows), ``address``
+(the cluster, as :func:`connect` takes it), ``progress`` (show the chunks done; tqdm when it is
+installed), ``max_retries`` (Ray's retries of a chunk whose worker failed, below) and
+``threads_per_task`` (each task's CPUs and threads, default 1; above).
+
 Meshes, robots and scenes go into Ray's object store once per call (``ray.put``), not once per
 task; a worker process unpickles each of them (rebuilding a mesh's hierarchy: 34 ms for the
 34,000-triangle knot) the first time one of its tasks needs it, then keeps it for the later
