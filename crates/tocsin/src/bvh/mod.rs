@@ -183,12 +183,7 @@ impl Bvh {
         if !direction.is_finite() {
             return None;
         }
-        let reach = |r: &Rss| {
-            r.center.dot(direction)
-                + r.half_lengths[0] * r.axes.x_axis.dot(direction).abs()
-                + r.half_lengths[1] * r.axes.y_axis.dot(direction).abs()
-                + r.radius * direction.length()
-        };
+        let reach = |r: &Rss| r.center.dot(direction) + r.spread().support(direction);
         let mut best = (f64::NEG_INFINITY, None);
         let mut stack = vec![0u32];
         while let Some(i) = stack.pop() {

@@ -9,6 +9,7 @@
 //! point outside.
 
 use crate::math::{Mat3, Vec3};
+use crate::motion::Spread;
 
 /// Relative margin added to every radius. The fit's rounding (a rotated coordinate, a half
 /// spread, the square root that shrinks the rectangle) is a few units in the last place of the
@@ -149,6 +150,20 @@ impl Rss {
         self.half_lengths[0] * self.axes.x_axis.dot(u).abs()
             + self.half_lengths[1] * self.axes.y_axis.dot(u).abs()
             + self.radius
+    }
+
+    /// The volume's reach about its centre by direction, for directions of any length (the
+    /// volume's frame): [`Spread::support`] is [`Self::support`] scaled by the direction's
+    /// length.
+    #[inline]
+    pub(crate) fn spread(&self) -> Spread {
+        Spread::rss(
+            self.axes.x_axis,
+            self.axes.y_axis,
+            self.half_lengths[0],
+            self.half_lengths[1],
+            self.radius,
+        )
     }
 
     /// A size used to choose which of two volumes to split first during traversal.

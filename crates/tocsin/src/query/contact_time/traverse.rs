@@ -217,13 +217,7 @@ impl<'a> PointSet<'a> {
     #[inline]
     fn spread(&self) -> Spread {
         match self.rss {
-            Some(r) => Spread::rss(
-                r.axes.x_axis,
-                r.axes.y_axis,
-                r.half_lengths[0],
-                r.half_lengths[1],
-                r.radius,
-            ),
+            Some(r) => r.spread(),
             None => Spread::ball(self.radius),
         }
     }
