@@ -17,14 +17,12 @@
 //!     { "query": "hausdorff", "mesh1": "a", "mesh2": "b", "symmetric": true } ] }
 //! ```
 //! Poses are 3, 6 or 16 numbers as on the command line; a missing pose is the identity and a
-//! missing motion keeps the body at the identity. `contact_time` takes `"contact_pair": true` to
-//! report the points of the triangle pair that ended the advancement (within the tolerance)
-//! instead of the meshes' closest points, which take one exact distance query more;
+//! missing motion keeps the body at the identity. `contact_time` takes `"contact_pair": true`
+//! to report the points of the triangle pair that ended the advancement (within the
+//! tolerance) instead of the meshes' closest points, which take one exact distance query more;
 //! `penetration` takes `"tolerance"` and `"starts"` (the seeds refined at deep penetrations,
-//! default 2). Relative
-//! mesh paths are taken from the scene
-//! file's folder. A key given twice (a mesh name, a query field) is an error, not "the last
-//! one wins".
+//! default 2). Relative mesh paths are taken from the scene file's folder. A key given twice
+//! (a mesh name, a query field) is an error, not "the last one wins".
 
 use crate::spec::{
     contact_json, depth_json, distance_json, hausdorff_json, load_mesh, motion_from,

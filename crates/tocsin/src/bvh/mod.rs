@@ -250,7 +250,7 @@ type Columns = [Vec<f32>; 3];
 
 /// For each vertex, the first index of a vertex at exactly the same position (bitwise, with
 /// `-0.0` and `0.0` alike), found by sorting the indices by position (in parallel).
-fn same_position(vertices: &[Vec3]) -> Vec<u32> {
+pub(crate) fn same_position(vertices: &[Vec3]) -> Vec<u32> {
     use rayon::prelude::*;
     let key = |v: &Vec3| [v.x + 0.0, v.y + 0.0, v.z + 0.0].map(f64::to_bits);
     let mut order: Vec<u32> = (0..vertices.len() as u32).collect();

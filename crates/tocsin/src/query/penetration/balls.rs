@@ -14,14 +14,16 @@
 //! directional depth along `d`, and any touching translation found along `d`, is at least `h`.
 //!
 //! **How the balls are found.** Per mesh, once: at up to [`BALLS`] triangles spread over the
-//! hierarchy's leaves (every k-th leaf), the largest ball tangent to the surface at the triangle's centroid, on
-//! its inner side (Ma, Bai and Tong's shrinking ball, with the exact distance to the mesh), its
-//! centre kept when it is inside and its radius the centre's exact distance to the surface.
+//! hierarchy's leaves (every k-th leaf), the largest ball tangent to the surface at the
+//! triangle's centroid, on its inner side (Ma, Bai and Tong's shrinking ball, with the exact
+//! distance to the mesh), its centre kept when it is inside and its radius the centre's exact
+//! distance to the surface.
 //! Where the mesh is open, inconsistently oriented or disconnected there are none, and no
 //! bound.
 
 use std::collections::HashMap;
 
+use crate::bvh::same_position;
 use crate::math::{Pose, Vec3};
 use crate::query::penetration::surface::point_to_mesh;
 use crate::query::penetration::winding::inside;
@@ -46,19 +48,10 @@ pub(crate) struct Ball {
 /// Whether the triangles form one closed, consistently oriented, connected surface, with
 /// vertices taken by position (duplicated vertices at one position are one).
 fn closed_and_connected(mesh: &TriMesh) -> bool {
-    let v = mesh.vertices();
-    // Vertex ids by exact position (+0 and -0 alike).
-    let key = |p: Vec3| (p + Vec3::ZERO).to_array().map(f64::to_bits);
-    let mut ids: HashMap<[u64; 3], u32> = HashMap::with_capacity(v.len());
-    let id: Vec<u32> = v
-        .iter()
-        .map(|&p| {
-            let n = ids.len() as u32;
-            *ids.entry(key(p)).or_insert(n)
-        })
-        .collect();
+    // Vertex ids by exact position (+0 and -0 alike): the first vertex at each position.
+    let id = same_position(mesh.vertices());
     let mut balance: HashMap<(u32, u32), i64> = HashMap::with_capacity(3 * mesh.num_triangles());
-    let mut parent: Vec<u32> = (0..ids.len() as u32).collect();
+    let mut parent: Vec<u32> = (0..id.len() as u32).collect();
     fn root(parent: &mut [u32], mut i: u32) -> u32 {
         while parent[i as usize] != i {
             let p = parent[parent[i as usize] as usize];
@@ -151,9 +144,9 @@ pub(crate) fn inscribed_balls(mesh: &TriMesh) -> Vec<Ball> {
 
 /// Per unit direction `d` (world), a shift `h >= 0` such that body 2 moved by any `s d` with
 /// `0 <= s < h` still penetrates body 1 (module docs): the largest, over the [`MOVED`] balls of
-/// body 2 that overlap body 1's most deeply, of the end of the run of shifts from 0 over which the moved ball keeps
-/// overlapping the union of body 1's balls. 0 for every direction where either mesh has no
-/// balls.
+/// body 2 that overlap body 1's most deeply, of the end of the run of shifts from 0 over which
+/// the moved ball keeps overlapping the union of body 1's balls. 0 for every direction where
+/// either mesh has no balls.
 pub(crate) fn penetrating_shifts(
     mesh1: &TriMesh,
     pose1: &Pose,
