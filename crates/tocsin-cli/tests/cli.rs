@@ -16,6 +16,17 @@ fn tocsin(args: &[&str]) -> (i32, String, String) {
     )
 }
 
+/// Runs `tocsin` with `args` and checks that it refused them: status 2, nothing on standard
+/// output, one line on standard error that starts `tocsin: ` and contains `expect`.
+fn refused(args: &[&str], expect: &str) {
+    let (code, out, err) = tocsin(args);
+    assert_eq!(code, 2, "{args:?}: {err}");
+    assert!(out.is_empty(), "{args:?}: {out}");
+    assert_eq!(err.trim().lines().count(), 1, "{args:?}: {err}");
+    assert!(err.starts_with("tocsin: "), "{args:?}: {err}");
+    assert!(err.contains(expect), "{args:?}: {err}");
+}
+
 #[test]
 fn distance_prints_json() {
     let (code, out, _) = tocsin(&["distance", "builtin:box", "builtin:box", "--pose2", "2,0,0"]);
@@ -263,15 +274,9 @@ fn bad_scenes_are_one_line_and_status_2() {
             "query 0: option `max_error`",
         ),
     ] {
-        let (code, out, err) = tocsin(&["run", &scene_file(name, text)]);
-        assert_eq!(code, 2, "{name}: {err}");
-        assert!(out.is_empty());
-        assert_eq!(err.trim().lines().count(), 1, "{name}: {err}");
-        assert!(err.contains(expect), "{name}: {err}");
+        refused(&["run", &scene_file(name, text)], expect);
     }
-    let (code, _, err) = tocsin(&["run", "/no/such/scene.json"]);
-    assert_eq!(code, 2);
-    assert!(err.contains("cannot read"));
+    refused(&["run", "/no/such/scene.json"], "cannot read");
 }
 
 #[test]
@@ -338,11 +343,7 @@ fn bad_input_is_one_line_and_status_2() {
             "0",
         ],
     ] {
-        let (code, out, err) = tocsin(&args);
-        assert_eq!(code, 2, "{args:?}: {err}");
-        assert!(out.is_empty());
-        assert_eq!(err.trim().lines().count(), 1, "{args:?}: {err}");
-        assert!(err.starts_with("tocsin: "), "{err}");
+        refused(&args, "");
     }
 }
 
@@ -355,42 +356,42 @@ fn non_finite_numbers_are_refused() {
         "nan,0,0",
         "3,0,0,0,0,-inf",
     ] {
-        let (code, out, err) = tocsin(&["distance", "builtin:box", "builtin:box", "--pose2", pose]);
-        assert_eq!(code, 2, "{pose}: {out}");
-        assert!(err.contains("not a finite number"), "{pose}: {err}");
+        refused(
+            &["distance", "builtin:box", "builtin:box", "--pose2", pose],
+            "not a finite number",
+        );
     }
-    let (code, _, err) = tocsin(&[
-        "contact-time",
-        "builtin:box",
-        "builtin:box",
-        "--motion1",
-        "interp:-3,0,0:3,0,0:0,nan,0",
-    ]);
-    assert_eq!(code, 2);
-    assert!(err.contains("finite"), "{err}");
+    refused(
+        &[
+            "contact-time",
+            "builtin:box",
+            "builtin:box",
+            "--motion1",
+            "interp:-3,0,0:3,0,0:0,nan,0",
+        ],
+        "finite",
+    );
     let toml = scene_file(
         "nan.toml",
         "[meshes]\na = \"builtin:box\"\n[[queries]]\nquery = \"distance\"\nmesh1 = \"a\"\nmesh2 = \"a\"\npose2 = [3.0, 0.0, 0.0, nan, 0.0, 0.0]\n",
     );
-    let (code, _, err) = tocsin(&["run", &toml]);
-    assert_eq!(code, 2);
-    assert!(err.contains("not a finite number"), "{err}");
+    refused(&["run", &toml], "not a finite number");
 }
 
 #[test]
 fn an_iteration_cap_is_an_error_not_a_contact() {
-    let (code, out, err) = tocsin(&[
-        "contact-time",
-        "builtin:knot2.8k",
-        "builtin:knot2.8k",
-        "--motion1",
-        "translation:-12,0,0:12,0,0",
-        "--max-iterations",
-        "1",
-    ]);
-    assert_eq!(code, 2, "{out}");
-    assert!(err.contains("no answer within 1 iterations"), "{err}");
-    assert!(out.is_empty());
+    refused(
+        &[
+            "contact-time",
+            "builtin:knot2.8k",
+            "builtin:knot2.8k",
+            "--motion1",
+            "translation:-12,0,0:12,0,0",
+            "--max-iterations",
+            "1",
+        ],
+        "no answer within 1 iterations",
+    );
 }
 
 #[test]
@@ -436,17 +437,18 @@ fn closed_pipes_and_full_disks() {
             .unwrap();
         assert_eq!(out.status.code(), Some(2));
         assert!(String::from_utf8_lossy(&out.stderr).contains("No space left"));
-        let (code, _, err) = tocsin(&[
-            "render-contact",
-            "builtin:box",
-            "builtin:box",
-            "--motion1",
-            "translation:-3,0,0:3,0,0",
-            "--out",
-            "/dev/full",
-        ]);
-        assert_eq!(code, 2);
-        assert!(err.contains("No space left"), "{err}");
+        refused(
+            &[
+                "render-contact",
+                "builtin:box",
+                "builtin:box",
+                "--motion1",
+                "translation:-3,0,0:3,0,0",
+                "--out",
+                "/dev/full",
+            ],
+            "No space left",
+        );
     }
 }
 
@@ -456,16 +458,12 @@ fn scene_keys_given_twice_are_errors_and_paths_are_relative_to_the_scene() {
         "twice.json",
         r#"{"meshes": {"a": "builtin:box", "a": "builtin:sphere"}, "queries": []}"#,
     );
-    let (code, _, err) = tocsin(&["run", &twice]);
-    assert_eq!(code, 2);
-    assert!(err.contains("defined twice"), "{err}");
+    refused(&["run", &twice], "defined twice");
     let field_twice = scene_file(
         "field.json",
         r#"{"meshes": {"a": "builtin:box"}, "queries": [{"query": "within", "mesh1": "a", "mesh2": "a", "threshold": 1, "threshold": 2}]}"#,
     );
-    let (code, _, err) = tocsin(&["run", &field_twice]);
-    assert_eq!(code, 2);
-    assert!(err.contains("duplicate"), "{err}");
+    refused(&["run", &field_twice], "duplicate");
     // A mesh beside the scene file, run from another working directory.
     let dir = std::env::temp_dir().join(format!("tocsin-rel-{}", std::process::id()));
     std::fs::create_dir_all(dir.join("parts")).unwrap();
@@ -563,12 +561,14 @@ fn robot_path_reports_contacts_and_free_segments() {
         let v: serde_json::Value = serde_json::from_str(&out).unwrap();
         assert_eq!(v["free"], !blocked);
     }
-    let (code, _, err) = tocsin(&["robot-path", urdf, "--q0", "0,0", "--q1", q1]);
-    assert_eq!(code, 2);
-    assert!(err.contains("has 2 values"), "{err}");
-    let (code, _, err) = tocsin(&["robot-path", "/nonexistent.urdf", "--q0", q0, "--q1", q1]);
-    assert_eq!(code, 2);
-    assert!(err.contains("nonexistent"), "{err}");
+    refused(
+        &["robot-path", urdf, "--q0", "0,0", "--q1", q1],
+        "has 2 values",
+    );
+    refused(
+        &["robot-path", "/nonexistent.urdf", "--q0", q0, "--q1", q1],
+        "nonexistent",
+    );
 }
 
 #[test]
@@ -620,15 +620,16 @@ fn penetration_pointwise_and_hausdorff() {
     assert_eq!(code, 0, "{err}");
     let v: serde_json::Value = serde_json::from_str(&out).unwrap();
     assert_eq!(v["results"][0]["depth"].as_f64(), Some(three), "{out}");
-    let (code, _, err) = tocsin(&[
-        "penetration",
-        "builtin:knot2.8k",
-        "builtin:knot2.8k",
-        "--starts",
-        "0",
-    ]);
-    assert_eq!(code, 2);
-    assert!(err.contains("starts"), "{err}");
+    refused(
+        &[
+            "penetration",
+            "builtin:knot2.8k",
+            "builtin:knot2.8k",
+            "--starts",
+            "0",
+        ],
+        "starts",
+    );
     let (code, out, _) = tocsin(&[
         "hausdorff",
         "builtin:box",
@@ -643,9 +644,10 @@ fn penetration_pointwise_and_hausdorff() {
         (v["distance"].as_f64().unwrap() - 0.25).abs() < 1e-4,
         "{out}"
     );
-    let (code, _, err) = tocsin(&["hausdorff", "builtin:box", "builtin:box", "--max-error=-1"]);
-    assert_eq!(code, 2);
-    assert!(err.contains("max_error"), "{err}");
+    refused(
+        &["hausdorff", "builtin:box", "builtin:box", "--max-error=-1"],
+        "max_error",
+    );
     // Pointwise depth of the boxes overlapping by 0.2: the deepest points are 0.2 inside.
     let (code, out, err) = tocsin(&[
         "pointwise",
@@ -669,9 +671,10 @@ fn penetration_pointwise_and_hausdorff() {
     ]);
     let v: serde_json::Value = serde_json::from_str(&out).unwrap();
     assert_eq!(v["depth"].as_f64(), Some(0.0), "{out}");
-    let (code, _, err) = tocsin(&["pointwise", "builtin:box", "builtin:box", "--max-error=0"]);
-    assert_eq!(code, 2);
-    assert!(err.contains("max_error"), "{err}");
+    refused(
+        &["pointwise", "builtin:box", "builtin:box", "--max-error=0"],
+        "max_error",
+    );
 }
 
 #[test]
@@ -703,7 +706,5 @@ fn rain_never_tunnels_and_draws_its_frames() {
     assert!(dir.join("strip.png").metadata().unwrap().len() > 1000);
     assert!(dir.join("frame_00.png").exists());
     let _ = std::fs::remove_dir_all(&dir);
-    let (code, _, err) = tocsin(&["rain", "--speed", "nan"]);
-    assert_eq!(code, 2);
-    assert!(err.contains("--speed"), "{err}");
+    refused(&["rain", "--speed", "nan"], "--speed");
 }
