@@ -315,12 +315,7 @@ fn run(cli: Cli) -> Result<serde_json::Value, String> {
             starts,
         } => {
             let (m1, p1, m2, p2) = setup(&pair)?;
-            let defaults = tocsin::DepthOptions::default();
-            let opts = tocsin::DepthOptions {
-                tolerance,
-                starts: starts.unwrap_or(defaults.starts),
-                ..defaults
-            };
+            let opts = spec::depth_options(tolerance, starts);
             let start = std::time::Instant::now();
             let r =
                 tocsin::penetration_depth(&m1, &p1, &m2, &p2, &opts).map_err(|e| e.to_string())?;

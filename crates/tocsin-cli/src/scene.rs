@@ -25,7 +25,7 @@
 //! (a mesh name, a query field) is an error, not "the last one wins".
 
 use crate::spec::{
-    contact_json, depth_json, distance_json, hausdorff_json, load_mesh, motion_from,
+    contact_json, depth_json, depth_options, distance_json, hausdorff_json, load_mesh, motion_from,
     pointwise_json, pose_from_values,
 };
 use serde::Deserialize;
@@ -35,8 +35,8 @@ use std::io::IsTerminal;
 use tocsin::query::penetration::default_max_error;
 use tocsin::{
     collide, distance, hausdorff_distance, motion_is_free, penetration_depth,
-    pointwise_penetration, time_of_contact, within_distance, ContactOptions, DepthOptions,
-    DistanceOptions, Motion, Pose, TriMesh, Vec3, Witnesses,
+    pointwise_penetration, time_of_contact, within_distance, ContactOptions, DistanceOptions,
+    Motion, Pose, TriMesh, Vec3, Witnesses,
 };
 
 #[derive(Deserialize)]
@@ -296,12 +296,7 @@ pub fn run(path: &str) -> Result<Value, String> {
                 tolerance,
                 starts,
             } => {
-                let defaults = DepthOptions::default();
-                let opts = DepthOptions {
-                    tolerance: *tolerance,
-                    starts: starts.unwrap_or(defaults.starts),
-                    ..defaults
-                };
+                let opts = depth_options(*tolerance, *starts);
                 let (m1, p1, m2, p2) = placed(mesh1, pose1, mesh2, pose2)?;
                 let r = penetration_depth(m1, &p1, m2, &p2, &opts)
                     .map_err(|e| format!("query {i}: {e}"))?;

@@ -3,8 +3,8 @@
 
 use serde_json::{json, Value};
 use tocsin::{
-    mesh, ContactStatus, ContactTime, DepthStatus, DistanceResult, HausdorffResult, Mat3, Mat4,
-    Motion, PenetrationDepth, PointwisePenetration, Pose, TriMesh, Vec3,
+    mesh, ContactStatus, ContactTime, DepthOptions, DepthStatus, DistanceResult, HausdorffResult,
+    Mat3, Mat4, Motion, PenetrationDepth, PointwisePenetration, Pose, TriMesh, Vec3,
 };
 
 /// A mesh from a path (.obj, .stl, .ply; a relative path is taken from `base`, the scene
@@ -137,6 +137,17 @@ pub fn contact_json(r: &Option<ContactTime>) -> Value {
                 _ => "other",
             },
         }),
+    }
+}
+
+/// The penetration depth's options from the command line or a scene: the library's defaults
+/// where a value is not given.
+pub fn depth_options(tolerance: Option<f64>, starts: Option<usize>) -> DepthOptions {
+    let defaults = DepthOptions::default();
+    DepthOptions {
+        tolerance,
+        starts: starts.unwrap_or(defaults.starts),
+        ..defaults
     }
 }
 
