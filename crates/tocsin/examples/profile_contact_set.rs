@@ -38,11 +38,19 @@ fn main() {
     let m = match model {
         "knot2.8k" => mesh::torus_knot(175, 8),
         "sphere" => mesh::sphere(1.0, 64, 128),
+        "knot34k" => mesh::torus_knot(680, 25),
         path if path.ends_with(".obj") || path.ends_with(".stl") => TriMesh::load(path),
-        _ => mesh::torus_knot(680, 25),
+        other => {
+            eprintln!("unknown model {other:?}: knot2.8k, knot34k, sphere or an .obj/.stl file");
+            std::process::exit(2);
+        }
     };
-    let Ok(m) = m else {
-        return;
+    let m = match m {
+        Ok(m) => m,
+        Err(e) => {
+            eprintln!("cannot load {model}: {e}");
+            std::process::exit(2);
+        }
     };
     let qs = queries(&m);
     let still = Motion::stationary(Pose::IDENTITY);
