@@ -76,6 +76,7 @@ bench-python: develop
 	$(VPY) -m pip install -q python-fcl pybullet
 	$(VPY) bench/compare_fcl.py
 	$(VPY) bench/compare_fcl_ccd.py
+	$(VPY) bench/compare_fcl_ccd_tolerance.py
 	$(VPY) bench/compare_fcl_ties.py
 	$(VPY) bench/compare_fcl_pathological.py
 	$(VPY) bench/ompl_rigid.py
