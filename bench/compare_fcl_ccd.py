@@ -17,8 +17,9 @@ collision. False positive: a reported time where the meshes are farther apart th
 tolerance (1e-3 of the bounding radius).
 
 Timing as a user's loop would call each library: every object (tocsin motions, FCL collision
-objects, requests) is built before the timer starts, and the methods take turns query by query
-(interleaved), each query timed three times (median) unless one call takes over 20 ms. Until
+objects, requests) is built before the timer starts; each method runs through the cell's
+queries one call each (a sweep), the methods' sweeps take turns, three rounds with the order
+turning, and a query's time is the median of its three (one when a call takes over 20 ms). Until
 the hardening issue FCL's objects and request were built inside the timed call, about 130 us of
 each FCL naive query. Usage: python bench/compare_fcl_ccd.py [--quick]
 """
@@ -118,6 +119,36 @@ def ca_loop_over_fcl_distance(o1, o2, mesh, motion, start, end, delta):
     return t
 
 
+def sweeps(calls, rounds=3):
+    """Each method's calls timed as a user's loop makes them: one call per query, query after
+    query (a sweep), the methods' sweeps taking turns, `rounds` times, the order of the methods
+    turning by one each round; a query's time is the median of its rounds (one round for a
+    method whose first sweep had a call over 20 ms). Timing each query's methods one after
+    the other instead (the thirty-fifth session's runs and before) gave the second of two
+    methods that share the advancement (the contact pair after the default) the first one's
+    warm caches and branch history: 10 to 20% off its time, and as much on the first
+    (docs/BENCHMARKS.md, thirty-sixth session). Returns each method's per-query times and its
+    first round's answers."""
+    labels = list(calls)
+    samples = {label: [[] for _ in calls[label]] for label in labels}
+    answers = {}
+    slow = set()
+    for r in range(rounds):
+        for label in labels[r % len(labels):] + labels[: r % len(labels)]:
+            if r > 0 and label in slow:
+                continue
+            got = []
+            for qi, fn in enumerate(calls[label]):
+                t0 = time.perf_counter()
+                got.append(fn())
+                samples[label][qi].append(time.perf_counter() - t0)
+            if r == 0:
+                answers[label] = got
+                if max(ts[0] for ts in samples[label]) > 0.02:
+                    slow.add(label)
+    return {label: [statistics.median(ts) for ts in samples[label]] for label in labels}, answers
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--quick", action="store_true")
@@ -184,19 +215,7 @@ def main():
 
                 methods["CA loop over fcl.distance"] = prepare_loop
             calls = {label: [prep(mo, s, e) for mo, s, e in qs] for label, prep in methods.items()}
-            times = {label: [] for label in methods}
-            answers = {label: [] for label in methods}
-            for qi in range(len(qs)):
-                for label in methods:
-                    fn, samples = calls[label][qi], []
-                    while len(samples) < 3:
-                        t0 = time.perf_counter()
-                        t = fn()
-                        samples.append(time.perf_counter() - t0)
-                        if samples[0] > 0.02:
-                            break
-                    times[label].append(statistics.median(samples))
-                    answers[label].append(t)
+            times, answers = sweeps(calls)
             med = {label: statistics.median(ts) for label, ts in times.items()}
             p90 = {label: float(np.percentile(ts, 90)) for label, ts in times.items()}
             ratios.append((name, kind, med["tocsin"] / med["tocsin distance at the start"], med["tocsin"] / med["fcl naive 100"], p90["tocsin"] / med["tocsin"]))

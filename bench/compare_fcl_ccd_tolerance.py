@@ -1,8 +1,9 @@
 """What a time of contact's tolerance costs, beside FCL's 100-sample sampler, in one run.
 
 The passes through of `compare_fcl_ccd.py`'s cells (the same seeded queries: body 1 driven
-5 bounding radii through body 2, which stays at the identity). Per pass, interleaved, each
-timed three times (median), objects built before the timer:
+5 bounding radii through body 2, which stays at the identity), timed as
+`compare_fcl_ccd.sweeps` does (each method a loop over the passes, the loops taking turns,
+three rounds, median per pass), objects built before the timer:
 `tocsin.time_of_contact` at tolerances of 1e-3 (the default), 1e-2 and 5e-2 of the bounding
 radius R, each with the closest points (the default) and with `contact_pair=True`;
 `tocsin.distance` at the start (the issue's yardstick); FCL's naive solver at 100 samples.
@@ -20,27 +21,17 @@ Usage: python bench/compare_fcl_ccd_tolerance.py [--models ...] [--out FILE]
 
 import argparse
 import statistics
-import time
 import zlib
 
 import numpy as np
 
 import tocsin
 from _common import fcl_model, machine_line, models, write
-from compare_fcl_ccd import KINDS, oracle, queries, tf
+from compare_fcl_ccd import KINDS, oracle, queries, sweeps, tf
 
 import fcl
 
 FRACTIONS = (1e-3, 1e-2, 5e-2)
-
-
-def median_of_three(fn):
-    samples, answer = [], None
-    for _ in range(3):
-        t0 = time.perf_counter()
-        answer = fn()
-        samples.append(time.perf_counter() - t0)
-    return statistics.median(samples), answer
 
 
 def main():
@@ -87,17 +78,14 @@ def main():
 
                 return run
 
-            methods = {}
-            for mo, s, e in qs:
-                calls = {(f, p): toc(mo, f, p) for f in FRACTIONS for p in (False, True)}
-                calls["distance"] = lambda s=s: tocsin.distance(mesh, s, mesh, still).distance
-                calls["fcl"] = sampler(s, e)
-                for label, fn in calls.items():
-                    methods.setdefault(label, []).append(median_of_three(fn))
-            med = {label: statistics.median(t for t, _ in v) * 1e6 for label, v in methods.items()}
+            calls = {(f, p): [toc(mo, f, p) for mo, _, _ in qs] for f in FRACTIONS for p in (False, True)}
+            calls["distance"] = [lambda s=s: tocsin.distance(mesh, s, mesh, still).distance for _, s, _ in qs]
+            calls["fcl"] = [sampler(s, e) for _, s, e in qs]
+            times, answered = sweeps(calls)
+            med = {label: statistics.median(t) * 1e6 for label, t in times.items()}
 
             def accuracy(label):
-                answers = [a for _, a in methods[label]]
+                answers = answered[label]
                 offsets = [a - f for a, f in zip(answers, firsts) if a is not None and f is not None]
                 late = [x for x in offsets if x > 1e-9]
                 missed = sum(a is None and f is not None for a, f in zip(answers, firsts))
