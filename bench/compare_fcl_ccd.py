@@ -85,6 +85,20 @@ def queries(mesh, kind, n_through, n_near, rng):
     return out
 
 
+def fcl_call(fm, o2, req, start, end):
+    """FCL's continuous collision of model `fm` from `start` to `end` against `o2` (still), as a
+    call with every object built beforehand: the time of contact, or None."""
+    o1, start_tf, goal_tf, still_tf = fcl.CollisionObject(fm, tf(start)), tf(start), tf(end), fcl.Transform()
+
+    def run():
+        o1.setTransform(start_tf)
+        res = fcl.ContinuousCollisionResult()
+        fcl.continuousCollide(o1, goal_tf, o2, still_tf, req, res)
+        return res.time_of_contact if res.is_collide else None
+
+    return run
+
+
 def oracle(mesh, motion):
     hit = lambda t: tocsin.collide(mesh, motion.pose_at(t), mesh, np.eye(4))  # noqa: E731
     n = 1000
@@ -195,18 +209,7 @@ def main():
                 req = fcl.ContinuousCollisionRequest(num_max_iterations=iters, ccd_motion_type=fcl_kind, ccd_solver_type=solver)
                 o2 = fcl.CollisionObject(fm, fcl.Transform())
 
-                def prepare(mo, s, e, req=req, o2=o2):
-                    o1, start_tf, goal_tf, still_tf = fcl.CollisionObject(fm, tf(s)), tf(s), tf(e), fcl.Transform()
-
-                    def run():
-                        o1.setTransform(start_tf)
-                        res = fcl.ContinuousCollisionResult()
-                        fcl.continuousCollide(o1, goal_tf, o2, still_tf, req, res)
-                        return res.time_of_contact if res.is_collide else None
-
-                    return run
-
-                methods[label] = prepare
+                methods[label] = lambda mo, s, e, req=req, o2=o2: fcl_call(fm, o2, req, s, e)
             if kind != "screw":
 
                 def prepare_loop(mo, s, e):

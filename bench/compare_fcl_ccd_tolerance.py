@@ -27,7 +27,7 @@ import numpy as np
 
 import tocsin
 from _common import fcl_model, machine_line, models, write
-from compare_fcl_ccd import KINDS, oracle, queries, sweeps, tf
+from compare_fcl_ccd import KINDS, fcl_call, oracle, queries, sweeps
 
 import fcl
 
@@ -67,20 +67,9 @@ def main():
 
                 return run
 
-            def sampler(s, e):
-                o1, start, goal, origin = fcl.CollisionObject(fm, tf(s)), tf(s), tf(e), fcl.Transform()
-
-                def run():
-                    o1.setTransform(start)
-                    res = fcl.ContinuousCollisionResult()
-                    fcl.continuousCollide(o1, goal, o2, origin, req, res)
-                    return res.time_of_contact if res.is_collide else None
-
-                return run
-
             calls = {(f, p): [toc(mo, f, p) for mo, _, _ in qs] for f in FRACTIONS for p in (False, True)}
             calls["distance"] = [lambda s=s: tocsin.distance(mesh, s, mesh, still).distance for _, s, _ in qs]
-            calls["fcl"] = [sampler(s, e) for _, s, e in qs]
+            calls["fcl"] = [fcl_call(fm, o2, req, s, e) for _, s, e in qs]
             times, answered = sweeps(calls)
             med = {label: statistics.median(t) * 1e6 for label, t in times.items()}
 
