@@ -8,7 +8,7 @@ three rounds, median per pass), objects built before the timer:
 radius R, each with the closest points (the default) and with `contact_pair=True`;
 `tocsin.distance` at the start (the issue's yardstick); FCL's naive solver at 100 samples.
 
-The sampler steps 1/100 of the motion, 0.05 R of travel here: its answer is a sample after the
+The sampler steps 1/100 of the motion, 0.05 R of the centre's travel here: its answer is a sample after the
 first contact, as coarse as a 5e-2 R tolerance in space, with no bound on how far the meshes
 have gone into each other. Accuracy against the oracle of `compare_fcl_ccd.py` (1,000
 exact collision samples refined by bisection): how many answers are late (after the first
