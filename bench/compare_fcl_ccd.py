@@ -32,7 +32,7 @@ import zlib
 import numpy as np
 
 import tocsin
-from _common import fcl_model, machine_line, models, pose, rotation, write
+from _common import fcl_model, machine_line, models, pose, rotation, sweeps, write
 
 import fcl
 
@@ -131,36 +131,6 @@ def ca_loop_over_fcl_distance(o1, o2, mesh, motion, start, end, delta):
         if t >= 1.0:
             return None
     return t
-
-
-def sweeps(calls, rounds=3):
-    """Each method's calls timed as a user's loop makes them: one call per query, query after
-    query (a sweep), the methods' sweeps taking turns, `rounds` times, the order of the methods
-    turning by one each round; a query's time is the median of its rounds (one round for a
-    method whose first sweep had a call over 20 ms). Timing each query's methods one after
-    the other instead (the thirty-fifth session's runs and before) gave the second of two
-    methods that share the advancement (the contact pair after the default) the first one's
-    warm caches and branch history: 10 to 20% less time than when it ran first
-    (docs/BENCHMARKS.md, thirty-sixth session). Returns each method's per-query times and its
-    first round's answers."""
-    labels = list(calls)
-    samples = {label: [[] for _ in calls[label]] for label in labels}
-    answers = {}
-    slow = set()
-    for r in range(rounds):
-        for label in labels[r % len(labels):] + labels[: r % len(labels)]:
-            if r > 0 and label in slow:
-                continue
-            got = []
-            for qi, fn in enumerate(calls[label]):
-                t0 = time.perf_counter()
-                got.append(fn())
-                samples[label][qi].append(time.perf_counter() - t0)
-            if r == 0:
-                answers[label] = got
-                if max(ts[0] for ts in samples[label]) > 0.02:
-                    slow.add(label)
-    return {label: [statistics.median(ts) for ts in samples[label]] for label in labels}, answers
 
 
 def main():

@@ -2,7 +2,7 @@
 
 The passes through of `compare_fcl_ccd.py`'s cells (the same seeded queries: body 1 driven
 5 bounding radii through body 2, which stays at the identity), timed as
-`compare_fcl_ccd.sweeps` does (each method a loop over the passes, the loops taking turns,
+`_common.sweeps` does (each method a loop over the passes, the loops taking turns,
 three rounds, median per pass), objects built before the timer:
 `tocsin.time_of_contact` at tolerances of 1e-3 (the default), 1e-2 and 5e-2 of the bounding
 radius R, each with the closest points (the default) and with `contact_pair=True`;
@@ -26,8 +26,8 @@ import zlib
 import numpy as np
 
 import tocsin
-from _common import fcl_model, machine_line, models, write
-from compare_fcl_ccd import KINDS, fcl_call, oracle, queries, sweeps
+from _common import fcl_model, machine_line, models, sweeps, write
+from compare_fcl_ccd import KINDS, fcl_call, oracle, queries
 
 import fcl
 
