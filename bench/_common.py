@@ -99,7 +99,7 @@ def sweeps(calls, rounds=3):
     method whose first sweep had a call over 20 ms). Timing each query's methods one after
     the other instead (the thirty-fifth session's runs and before) gave the second of two
     methods that share the advancement (the contact pair after the default) the first one's
-    warm caches and branch history: 10 to 20% less time than when it ran first
+    warm caches and branch history: 5 to 18% less time than when it ran first
     (docs/BENCHMARKS.md, thirty-sixth session). `calls` maps each method to its calls, one per
     query. Returns each method's per-query times and its first round's answers."""
     labels = list(calls)
