@@ -92,7 +92,7 @@ def timed_pair(fa, fb, repeats, block=10):
     return statistics.median(sa), statistics.median(sb)
 
 
-def sweeps(calls, rounds=3):
+def sweeps(calls, rounds=3, turn=0):
     """Each method's calls timed as a user's loop makes them: one call per query, query after
     query (a sweep), the methods' sweeps taking turns, `rounds` times, the order of the methods
     turning by one each round; a query's time is the median of its rounds (one round for a
@@ -101,13 +101,16 @@ def sweeps(calls, rounds=3):
     methods that share the advancement (the contact pair after the default) the first one's
     warm caches and branch history: 5 to 18% less time than when it ran first
     (docs/BENCHMARKS.md, thirty-sixth session). `calls` maps each method to its calls, one per
-    query. Returns each method's per-query times and its first round's answers."""
+    query; `turn` rotates the first round's order (a caller timing several sets of queries, such
+    as scenes, passes its index so that no method always runs first). Returns each method's
+    per-query times and its first round's answers."""
     labels = list(calls)
     samples = {label: [[] for _ in calls[label]] for label in labels}
     answers = {}
     slow = set()
     for r in range(rounds):
-        for label in labels[r % len(labels):] + labels[: r % len(labels)]:
+        k = (r + turn) % len(labels)
+        for label in labels[k:] + labels[:k]:
             if r > 0 and label in slow:
                 continue
             got = []

@@ -14,9 +14,10 @@ joint space, clipped to the limits) plus the start-to-goal edge. Each edge is ch
 - HPP's ``Dichotomy`` continuous path validation (hpp-python; exact, tolerance 0) on the same
   geometry and pairs (``--no-hpp`` leaves it out),
 
-and each start state by both single-configuration checks. Objects are built once, outside the
-timers; every call is made as a planner's loop would make it, one at a time from Python, each
-checker running a scene's edges as one block, the blocks alternating scene by scene.
+and the start state and the edges' ends by both single-configuration checks. Objects are
+built once, outside the timers; every call is made as a planner's loop would make it, one at a
+time from Python, each checker running a scene's edges (or configurations) as one loop, the
+loops taking turns (`_common.sweeps`), which one runs first turning scene by scene.
 Verdicts are compared: an edge the sampler calls free and tocsin does not is checked again with
 coal at 20,001 states; a collision found there makes it a confirmed miss of the sampler; HPP's
 verdicts are counted where they differ from tocsin's.
@@ -41,6 +42,7 @@ import numpy as np
 import yaml
 
 import tocsin
+from _common import sweeps
 
 CACHE = pathlib.Path(os.environ.get("TOCSIN_BENCH_CACHE", pathlib.Path.home() / ".cache" / "tocsin-bench"))
 VERSION = "0.6.4"
@@ -417,6 +419,7 @@ def run(args):
     resources = vamp_resources()
     rng = np.random.default_rng(args.seed)
     rows = []
+    turn = 0
     for robot_name in args.robots.split(","):
         base = resources / robot_name
         urdf, srdf = base / f"{robot_name}.urdf", base / f"{robot_name}.srdf"
@@ -435,7 +438,9 @@ def run(args):
                 k: []
                 for k in ("t_free", "t_coll", "p_free", "p_coll", "t_cfg", "p_cfg", "t_goal", "p_goal", "h_free", "h_coll", "h_goal")
             }
-            counts = {"free": 0, "coll": 0, "miss": 0, "unconfirmed": 0, "extra": 0, "edges": 0, "h_differ": 0}
+            counts = {
+                "free": 0, "coll": 0, "miss": 0, "unconfirmed": 0, "extra": 0, "edges": 0, "h_differ": 0, "cfg_differ": 0
+            }
             for scene_yaml, request in items:
                 scene = ours.scene(scene_yaml)
                 geom = theirs.scene(scene_yaml)
@@ -445,39 +450,50 @@ def run(args):
                 goal = {c["joint_name"]: c["position"] for c in request["goal_constraints"][0]["joint_constraints"]}
                 q_goal = np.array([goal[n] for n in robot.joint_names])
                 checker = hpp.scene(scene_yaml, q_start) if hpp else None
-                # Single configurations, interleaved.
-                for _ in range(5):
-                    t0 = time.perf_counter()
-                    a = robot.in_collision(q_start, scene)
-                    t1 = time.perf_counter()
-                    b = theirs.in_collision(geom, q_start)
-                    t2 = time.perf_counter()
-                    stats["t_cfg"].append((t1 - t0) * 1e6)
-                    stats["p_cfg"].append((t2 - t1) * 1e6)
                 edges = []
                 for _ in range(args.edges):
                     u = rng.normal(size=robot.dof)
                     edges.append((q_start, np.clip(q_start + 0.5 * u / np.linalg.norm(u), lo, hi), False))
                 edges.append((q_start, q_goal, True))
-                # Each checker runs the scene's edges as a block, as a planner's loop would
-                # call it (edge by edge the three evict each other's caches: measured, tocsin's
-                # free-edge medians rose 1.3 to 2x with HPP's checks between its own); the
-                # blocks alternate scene by scene.
-                def timed(check):
-                    out = []
-                    for q0, q1, _ in edges:
-                        t0 = time.perf_counter()
-                        verdict = check(q0, q1)
-                        out.append((verdict, (time.perf_counter() - t0) * 1e6))
-                    return out
+                turn += 1
+                # Single configurations: the start state and the edges' ends, each checker a
+                # loop over them (a planner's sampler checks one configuration after another),
+                # the loops taking turns over three rounds. Calling one configuration five times,
+                # the two checkers alternating, had timed a warm repeat (docs/BENCHMARKS.md,
+                # thirty-seventh session).
+                configs = [q_start] + [q1 for _, q1, _ in edges]
+                cfg_times, cfg_answers = sweeps(
+                    {
+                        "t_cfg": [lambda q=q: robot.in_collision(q, scene) for q in configs],
+                        "p_cfg": [lambda q=q: theirs.in_collision(geom, q) for q in configs],
+                    },
+                    rounds=3,
+                    turn=turn,
+                )
+                for k in cfg_times:
+                    stats[k] += [t * 1e6 for t in cfg_times[k]]
+                counts["cfg_differ"] += sum(a != b for a, b in zip(cfg_answers["t_cfg"], cfg_answers["p_cfg"]))
 
                 def sampled(q0, q1):
                     n = max(1, math.ceil(np.linalg.norm(q1 - q0) / (0.01 * extent)))
                     return not any(theirs.in_collision(geom, q0 + (k / n) * (q1 - q0)) for k in range(1, n + 1))
 
-                ours_out = timed(lambda q0, q1: robot.path_is_free(q0, q1, scene))
-                sampled_out = timed(sampled)
-                hpp_out = timed(lambda q0, q1: Hpp.path_is_free(checker, q0, q1)) if checker else None
+                # Each checker runs the scene's edges as a loop, as a planner's would call it
+                # (edge by edge the three evict each other's caches: measured, tocsin's
+                # free-edge medians rose 1.3 to 2x with HPP's checks between its own); which
+                # loop runs first turns scene by scene.
+                checkers = {"ours": lambda q0, q1: robot.path_is_free(q0, q1, scene), "sampled": sampled}
+                if checker:
+                    checkers["hpp"] = lambda q0, q1: Hpp.path_is_free(checker, q0, q1)
+                edge_times, edge_answers = sweeps(
+                    {k: [lambda q0=q0, q1=q1, c=c: c(q0, q1) for q0, q1, _ in edges] for k, c in checkers.items()},
+                    rounds=1,
+                    turn=turn,
+                )
+                ours_out, sampled_out = (
+                    list(zip(edge_answers[k], [t * 1e6 for t in edge_times[k]])) for k in ("ours", "sampled")
+                )
+                hpp_out = list(zip(edge_answers["hpp"], [t * 1e6 for t in edge_times["hpp"]])) if checker else None
                 for k, ((q0, q1, is_goal), (free, t_ours), (sampled_free, t_sampled)) in enumerate(
                     zip(edges, ours_out, sampled_out)
                 ):
@@ -520,15 +536,16 @@ def table(rows, args):
         "",
         "| robot | scenario | edges free / colliding (tocsin) | tocsin free edge | tocsin colliding edge | "
         "pin+coal 1% free edge | pin+coal 1% colliding edge | tocsin start-goal | pin+coal 1% start-goal | "
-        "tocsin config | pin+coal config | 1% sampler wrong: missed (confirmed) / unconfirmed / false alarm |",
-        "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
+        "tocsin config | pin+coal config | config verdicts that differ | "
+        "1% sampler wrong: missed (confirmed) / unconfirmed / false alarm |",
+        "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
     ]
     f = lambda v: f"{v[0]:.0f} ({v[1]:.0f})" if not math.isnan(v[0]) else "-"
     for r in rows:
         lines.append(
             f"| {r['robot']} | {r['scenario']} | {r['free']} / {r['coll']} | {f(r['t_free'])} | {f(r['t_coll'])} | "
             f"{f(r['p_free'])} | {f(r['p_coll'])} | {f(r['t_goal'])} | {f(r['p_goal'])} | {f(r['t_cfg'])} | "
-            f"{f(r['p_cfg'])} | {r['miss']} / {r['unconfirmed']} / {r['extra']} |"
+            f"{f(r['p_cfg'])} | {r['cfg_differ']} | {r['miss']} / {r['unconfirmed']} / {r['extra']} |"
         )
     if args.hpp:
         lines += [
