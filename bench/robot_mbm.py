@@ -31,7 +31,6 @@ import json
 import math
 import os
 import pathlib
-import platform
 import re
 import statistics
 import tarfile
@@ -42,7 +41,7 @@ import numpy as np
 import yaml
 
 import tocsin
-from _common import sweeps
+from _common import machine_line, sweeps
 
 CACHE = pathlib.Path(os.environ.get("TOCSIN_BENCH_CACHE", pathlib.Path.home() / ".cache" / "tocsin-bench"))
 VERSION = "0.6.4"
@@ -529,8 +528,7 @@ def run(args):
 
 def table(rows, args):
     lines = [
-        f"Machine: {platform.processor() or platform.machine()}, {os.cpu_count()} cores; Python "
-        f"{platform.python_version()}, tocsin {tocsin.__version__}; {args.problems} problems per "
+        f"{machine_line()}, tocsin {tocsin.__version__}; {args.problems} problems per "
         f"scenario, {args.edges} random 0.5 rad edges from each start state plus the start-to-goal edge; "
         "times in microseconds through Python, median (90th percentile).",
         "",
