@@ -75,23 +75,6 @@ def write(path, text):
         f.write(text + "\n")
 
 
-def timed_pair(fa, fb, repeats, block=10):
-    """Medians of `repeats` timings of `fa` and of `fb`, taken in alternating blocks of
-    `block` calls, so that a slow spell of this shared machine falls on both sides
-    (python-fcl's median at the same pose moved by up to 2x between runs). Within a block the
-    caches stay warm for that library, as in a loop of queries on one mesh pair; alternating
-    call by call instead made both libraries slower, tocsin up to 3x on knot34k (each flushes
-    the other's hierarchy from the caches)."""
-    sa, sb = [], []
-    while len(sa) < repeats:
-        for fn, samples in ((fa, sa), (fb, sb)):
-            for _ in range(min(block, repeats - len(samples))):
-                t0 = time.perf_counter()
-                fn()
-                samples.append(time.perf_counter() - t0)
-    return statistics.median(sa), statistics.median(sb)
-
-
 def sweeps(calls, rounds=3, turn=0):
     """Each method's calls timed as a user's loop makes them: one call per query, query after
     query (a sweep), the methods' sweeps taking turns, `rounds` times, the order of the methods
