@@ -1,6 +1,6 @@
 """The continuous-collision issue's pathological cases, tocsin beside python-fcl's naive solver
 at 100 samples (objects and requests built outside the timer), in one run, plus knot34k's
-median on an ordinary pass for scale. Each case is timed `--repeats` times (median).
+median over ordinary passes for scale.
 
 - ball: a sphere (16K triangles) turning 90 degrees about its centre in a concentric socket
   at 0.3% clearance;
