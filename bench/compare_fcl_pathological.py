@@ -25,6 +25,7 @@ import numpy as np
 
 import tocsin
 from _common import fcl_model, machine_line, pose, rotation, sweeps, write
+from compare_fcl_ccd import KINDS, fcl_call, make_motion, tf
 
 import fcl
 
@@ -74,13 +75,6 @@ def cases():
     yield "knot34k, 16 ordinary passes (scale)", knot, knot, "interp", passes, still
 
 
-KINDS = {"translation": fcl.CCDMotionType.CCDM_TRANS, "interp": fcl.CCDMotionType.CCDM_LINEAR, "screw": fcl.CCDMotionType.CCDM_SCREW}
-
-
-def tf(p):
-    return fcl.Transform(p[:3, :3].copy(), p[:3, 3].copy())
-
-
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--repeats", type=int, default=3)
@@ -88,26 +82,16 @@ def main():
     args = ap.parse_args()
     rows = []
     for name, m1, m2, kind, motions, still in cases():
-        make = {"translation": tocsin.Motion.translation, "interp": tocsin.Motion.interp, "screw": tocsin.Motion.screw}[kind]
         stay = tocsin.Motion.stationary(still)
-        o2 = fcl.CollisionObject(fcl_model(m2), tf(still))
-        o1 = fcl.CollisionObject(fcl_model(m1), tf(motions[0][0]))
+        fm, o2 = fcl_model(m1), fcl.CollisionObject(fcl_model(m2), tf(still))
         req = fcl.ContinuousCollisionRequest(num_max_iterations=100, ccd_motion_type=KINDS[kind], ccd_solver_type=fcl.CCDSolverType.CCDC_NAIVE)
-        still_tf = tf(still)
-
-        def ours(motion):
-            return tocsin.time_of_contact(m1, motion, m2, stay)
-
-        def theirs(start_tf, goal_tf):
-            o1.setTransform(start_tf)
-            res = fcl.ContinuousCollisionResult()
-            fcl.continuousCollide(o1, goal_tf, o2, still_tf, req, res)
-            return res.time_of_contact if res.is_collide else None
-
         times, answers = sweeps(
             {
-                "tocsin": [lambda m=make(start, end): ours(m) for start, end in motions],
-                "fcl": [lambda a=tf(start), b=tf(end): theirs(a, b) for start, end in motions],
+                "tocsin": [
+                    lambda m=make_motion(kind, start, end)[0]: tocsin.time_of_contact(m1, m, m2, stay)
+                    for start, end in motions
+                ],
+                "fcl": [fcl_call(fm, o2, req, start, end) for start, end in motions],
             },
             rounds=args.repeats,
         )

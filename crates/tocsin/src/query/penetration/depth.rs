@@ -112,10 +112,10 @@
 //! The result is a local optimum, an upper bound on the true depth (a translation that does
 //! separate the bodies): on random overlapping boxes it is within 0.05% of the exact depth at
 //! the median and 3% at worst (`bench/compare_penetration.py`, 100 pairs, with two starts or
-//! three). That the final configuration
-//! does not intersect and is within the tolerance follows from the continuous query's contract
-//! (its time is no later than the first contact, reached from a separated start, with distance
-//! at most the tolerance); the tests check it with `collide` and `distance` on every answer.
+//! three). That the final configuration does not intersect and is within the tolerance
+//! follows from the continuous query's contract (its time is no later than the first contact,
+//! reached from a separated start, with distance at most the tolerance); the tests check it
+//! with `collide` and `distance` on every answer.
 
 use crate::error::ContactError;
 use crate::math::{Pose, Vec3};
