@@ -48,7 +48,7 @@
 //!    (the continuous query's final exact distance) are computed only for the seeds kept
 //!    (knot2.8k at 5%: 8.1 to 2.5 ms, the same depths bit for bit).
 //!    Where both meshes are one closed connected surface, balls inside each
-//!    ([`super::balls`]) give every direction a shift below which body 2 certainly still
+//!    (`penetration/balls.rs`) give every direction a shift below which body 2 certainly still
 //!    penetrates: no sample below it is tested, and a direction whose shift reaches the bound
 //!    is dropped untested (a sixth saving that changes no answer; `bench/penetration_grid.py`
 //!    at 20% of the radius, knot34k 3.30 -> 2.04 ms, knot11k 1.85 -> 1.42, knot2.8k 1.22 ->
