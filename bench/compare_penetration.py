@@ -12,7 +12,11 @@ for two boxes). Random box pairs (seeded) that overlap; per pair:
   `penetration_depth` over its contacts (what FCL reports for meshes: a triangle pair's depth),
   and, as FCL would be used for a box primitive pair, `fcl.Box` shapes (GJK/EPA, exact).
 
-Objects built once, outside the timers; median microseconds per query.
+Objects built once, outside the timers. Each method is timed as a user's loop calls it
+(`_common.sweeps`): one call per pair, pair after pair, the methods' sweeps taking turns, three
+rounds with the order turning; a pair's time is the median of its rounds, and the table gives the
+median over the pairs in microseconds. (Until the thirty-eighth session the methods ran one after
+the other on each pair, each one cold after the others.)
 
     python bench/compare_penetration.py [--pairs 200] [--out FILE]
 """
@@ -25,7 +29,7 @@ import fcl
 import numpy as np
 
 import tocsin
-from _common import fcl_model, machine_line
+from _common import fcl_model, machine_line, sweeps
 
 
 def sat_depth(h1, p1, h2, p2):
@@ -61,10 +65,10 @@ def convex_polytopes(pairs):
     from scipy.spatial import ConvexHull
 
     rng = np.random.default_rng(4)
-    times = {"tocsin": [], "coal EPA": []}
-    errors = {k: [] for k in times}
-    n = 0
-    while n < pairs:
+    calls = {"tocsin": [], "coal EPA": []}
+    oracles = []
+    req = coal.CollisionRequest(coal.CollisionRequestFlag.CONTACT, 1)
+    while len(oracles) < pairs:
         pa = rng.normal(size=(rng.integers(6, 20), 3)) * rng.uniform(0.2, 1.0, 3)
         pb = rng.normal(size=(rng.integers(6, 20), 3)) * rng.uniform(0.05, 1.0, 3)
         shift = rng.normal(size=3) * rng.choice([0.05, 0.3, 0.8])
@@ -72,31 +76,30 @@ def convex_polytopes(pairs):
         hull = ConvexHull(diff)
         if (hull.equations[:, 3] >= 0).any():
             continue
-        n += 1
-        oracle = (-hull.equations[:, 3]).min()
+        oracles.append((-hull.equations[:, 3]).min())
         ha, hb = ConvexHull(pa), ConvexHull(pb)
         a = tocsin.Mesh(pa, ha.simplices.astype(np.int64))
         b = tocsin.Mesh(pb, hb.simplices.astype(np.int64))
         p2 = np.eye(4)
         p2[:3, 3] = shift
-        t = time.perf_counter()
-        r = tocsin.penetration_depth(a, np.eye(4), b, p2)
-        times["tocsin"].append(time.perf_counter() - t)
-        errors["tocsin"].append(r.depth / oracle - 1)
+        calls["tocsin"].append(lambda a=a, b=b, p2=p2: tocsin.penetration_depth(a, np.eye(4), b, p2).depth)
         shapes = []
         for pts in (pa, pb):
             v = coal.StdVec_Vec3s()
             for q in pts:
                 v.append(q)
             shapes.append(coal.Convex.convexHull(v, False, ""))
-        req = coal.CollisionRequest(coal.CollisionRequestFlag.CONTACT, 1)
-        res = coal.CollisionResult()
         ta, tb = coal.Transform3s(), coal.Transform3s(np.eye(3), shift)
-        t = time.perf_counter()
-        coal.collide(shapes[0], ta, shapes[1], tb, req, res)
-        times["coal EPA"].append(time.perf_counter() - t)
-        depth = -res.getContact(0).penetration_depth if res.numContacts() else 0.0
-        errors["coal EPA"].append(depth / oracle - 1)
+
+        def coal_depth(sa=shapes[0], sb=shapes[1], ta=ta, tb=tb):
+            res = coal.CollisionResult()
+            coal.collide(sa, ta, sb, tb, req, res)
+            return -res.getContact(0).penetration_depth if res.numContacts() else 0.0
+
+        calls["coal EPA"].append(coal_depth)
+    n = len(oracles)
+    times, answers = sweeps(calls)
+    errors = {k: [d / o - 1 for d, o in zip(answers[k], oracles)] for k in calls}
     lines = [
         f"{n} random convex polytope pairs (hulls of 6 to 20 points, thin slabs, deep and shallow overlaps); "
         "error against scipy's hull of all vertex differences.",
@@ -121,38 +124,45 @@ def main():
     f1, f2 = fcl_model(m1), fcl_model(m2)
     s1, s2 = fcl.Box(*(2 * h1)), fcl.Box(*(2 * h2))
     tol = 1e-3 * min(m1.bounding_radius, m2.bounding_radius)
-    rows = {"tocsin": [], "tocsin local search": [], "fcl mesh": [], "fcl box": []}
-    errors = {k: [] for k in rows}
-    separated = {"tocsin": 0, "tocsin local search": 0}
-    n = 0
-    while n < args.pairs:
+    calls = {"tocsin": [], "tocsin local search": [], "fcl mesh": [], "fcl box": []}
+    cases = []
+    req = fcl.CollisionRequest(num_max_contacts=100000, enable_contact=True)
+    while len(cases) < args.pairs:
         p1, p2 = np.eye(4), np.eye(4)
         p1[:3, :3], p2[:3, :3] = random_rotation(rng), random_rotation(rng)
         p1[:3, 3], p2[:3, 3] = rng.uniform(-0.2, 0.2, 3), rng.uniform(-0.6, 0.6, 3)
         exact = sat_depth(h1, p1, h2, p2)
         if exact < 1e-3:
             continue
-        n += 1
+        cases.append((p1, p2, exact))
         for name, exact_convex in [("tocsin", True), ("tocsin local search", False)]:
-            t = time.perf_counter()
-            r = tocsin.penetration_depth(m1, p1, m2, p2, exact_convex=exact_convex)
-            rows[name].append(time.perf_counter() - t)
-            errors[name].append(r.depth / exact - 1)
-            after = p2.copy()
-            after[:3, 3] += r.translation
-            separated[name] += (not tocsin.collide(m1, p1, m2, after)) and tocsin.distance(
-                m1, p1, m2, after
-            ).distance <= tol * (1 + 1e-9)
+            calls[name].append(
+                lambda p1=p1, p2=p2, e=exact_convex: tocsin.penetration_depth(m1, p1, m2, p2, exact_convex=e)
+            )
         for name, (g1, g2) in [("fcl mesh", (f1, f2)), ("fcl box", (s1, s2))]:
             o1 = fcl.CollisionObject(g1, fcl.Transform(p1[:3, :3], p1[:3, 3]))
             o2 = fcl.CollisionObject(g2, fcl.Transform(p2[:3, :3], p2[:3, 3]))
-            req = fcl.CollisionRequest(num_max_contacts=100000, enable_contact=True)
-            res = fcl.CollisionResult()
-            t = time.perf_counter()
-            fcl.collide(o1, o2, req, res)
-            rows[name].append(time.perf_counter() - t)
-            depth = max((c.penetration_depth for c in res.contacts), default=0.0)
-            errors[name].append(depth / exact - 1)
+
+            def fcl_depth(o1=o1, o2=o2):
+                res = fcl.CollisionResult()
+                fcl.collide(o1, o2, req, res)
+                return max((c.penetration_depth for c in res.contacts), default=0.0)
+
+            calls[name].append(fcl_depth)
+    n = len(cases)
+    rows, answers = sweeps(calls)
+    errors = {k: [] for k in calls}
+    separated = {"tocsin": 0, "tocsin local search": 0}
+    for i, (p1, p2, exact) in enumerate(cases):
+        for name in calls:
+            r = answers[name][i]
+            errors[name].append((r.depth if name in separated else r) / exact - 1)
+            if name in separated:
+                after = p2.copy()
+                after[:3, 3] += r.translation
+                separated[name] += (not tocsin.collide(m1, p1, m2, after)) and tocsin.distance(
+                    m1, p1, m2, after
+                ).distance <= tol * (1 + 1e-9)
     lines = [
         machine_line(),
         "",
