@@ -9,61 +9,249 @@
 //! edge of `A` with an edge of `B`; so the candidates are finite and the minimum over them is
 //! exact (to rounding).
 //!
-//! Most edge pairs give no facet: the Minkowski difference has a facet along `e_A x e_B` only
-//! where the two edges' arcs cross on the Gauss map (the arc of an edge of `A` runs between
-//! its two faces' outward normals; that of an edge of `B`, in `A - B`, between its faces'
-//! normals negated). Each edge pair is first put through that crossing test (a few dot
-//! products, below), and only the pairs that pass have their support overlap computed; the
-//! test is conservative (it keeps every pair within rounding of crossing), and a pair it keeps
-//! needlessly only adds a candidate whose overlap is at least the depth. Edges between two
-//! coplanar triangles (a triangulated face's diagonals) have a point for an arc and are left
-//! out: a facet there has a face's normal, already a candidate.
+//! **Which candidates, found on the Gauss map.** The Gauss map puts each face at its outward
+//! normal on the unit sphere, each edge on the arc between its two faces' normals, and each
+//! vertex on the region of directions it is the support of. Every face of `A` gives a facet of
+//! `A - B` (normal `n_A`, with `B`'s support along `-n_A`), and so does every face of `B`
+//! (normal `-n_B`); an edge pair gives one only where the edge of `A`'s arc crosses the edge of
+//! `B`'s arc negated, and then the facet's normal is the crossing point, along `e_A x e_B`, and
+//! its overlap is `n.(p_A - p_B)` with `p_A` and `p_B` any corners of the two edges (each edge
+//! is its body's support there). So:
 //!
-//! **The crossing test.** Arcs `(a, b)` and `(c, d)`, each shorter than a half circle, cross
-//! when `c` and `d` lie on opposite sides of the plane through `a` and `b` (normal `u`, along
-//! the first edge), `a` and `b` on opposite sides of the plane through `c` and `d` (normal `w`,
-//! along the second edge), and the point where arc `cd` meets the great circle of `ab`,
-//! `y = |d.u| c + |c.u| d`, is on arc `ab` and not its antipode. The two great circles meet in
-//! `+-x` only, `x` on arc `ab` has `x.(a + b) > 0` and `-x` has it negative, so the last
-//! condition is `y.(a + b) > 0`, and `y` gives the facet normal's sign. A closed mesh with a
-//! degenerate triangle beside an edge, or two faces back to back (a flat mesh), has no arcs;
-//! such a pair takes every edge pair, as before.
+//! - *Supports by climbing.* A support along `d` is found by walking the mesh's edges to a
+//!   neighbour with a larger `d.p` until none has one, each face's search starting where that
+//!   of an adjacent face ended (its parent in a breadth-first order over the faces). On a convex surface a corner with no larger neighbour is a support:
+//!   its triangles cover a neighbourhood of it, so its edges span the cone the polytope lies in
+//!   from there. Not for a corner inside a flat face (its edges span only the face's plane): a
+//!   walk that ends at one on a face turned away from `d` takes the support by a loop over
+//!   every corner instead.
+//! - *Crossing pairs from a grid.* `B`'s arcs are bucketed once, in `B`'s frame, in a uniform
+//!   grid over the cube around the sphere (cells about as wide as its mean arc, each arc in
+//!   every cell of its box, widened by how far the arc bows out of its chord); each arc of `A`,
+//!   turned into `B`'s frame, is tested only against the arcs in the cells of its own box.
+//! - *Arcs within one region skipped.* The faces' supports on the other body say in which
+//!   region of its Gauss map each face normal lies. An arc of `A` whose two ends have the same
+//!   support on `B` lies in that one region (the regions are convex, the arcs geodesics
+//!   shorter than a half circle) and crosses none of `B`'s arcs: it is not tested. Where an
+//!   end lies on a region's border, the support taken is one of the regions it touches, and an
+//!   arc that then stays in that region's closure meets the other arcs only at its end, a face
+//!   normal, already a candidate.
+//! - *The crossing test.* Arcs `(a, b)` and `(c, d)`, each shorter than a half circle, cross
+//!   when `c` and `d` lie on opposite sides of the plane through `a` and `b` (normal `u`, along
+//!   the first edge), `a` and `b` on opposite sides of the plane through `c` and `d` (normal
+//!   `w`, along the second edge), and the point where arc `cd` meets the great circle of `ab`,
+//!   `y = |d.u| c + |c.u| d`, is on arc `ab` and not its antipode. The two great circles meet in
+//!   `+-x` only, `x` on arc `ab` has `x.(a + b) > 0` and `-x` has it negative, so the last
+//!   condition is `y.(a + b) > 0`, and `y` gives the facet normal's sign. The test keeps every
+//!   pair within rounding (1e-12) of crossing; one kept needlessly is within rounding of a
+//!   crossing, so its overlap is within rounding of a true facet's. Where rounding leaves the
+//!   sign open, both signs are taken with climbed supports, whose overlaps are never below the
+//!   depth.
+//!
+//! Edges between two coplanar triangles (a triangulated face's diagonals) have a point for an
+//! arc and are left out (a facet there has a face's normal, already a candidate), and coplanar
+//! triangles give one face. A closed mesh with a degenerate triangle, or two faces back to back
+//! (a flat mesh), has no Gauss map here: such a pair takes every face normal with both signs
+//! and every edge pair, their overlaps by loops over every corner (the path the tests hold the
+//! Gauss map's against).
 //!
 //! A mesh counts as a convex polytope when it is closed (every edge shared by exactly two
 //! triangles) and every vertex lies behind every non-degenerate face's plane (within 1e-9 of
-//! its size). The work is `E_A E_B` crossing tests plus the support loops of the faces' and the
-//! crossing pairs' normals; the path is used only when `E_A E_B + (F_A + F_B)(V_A + V_B)` stays
-//! small ([`MAX_WORK`]).
+//! its size). The path gives up for the local search beyond [`MAX_WORK`] crossing tests (two
+//! prisms of many sides turned across each other have a Minkowski difference of `E_A E_B`
+//! facets) or, without Gauss maps, `(F_A + F_B + E_A E_B)(V_A + V_B)`.
 
-use std::collections::HashMap;
+use std::collections::{HashMap, VecDeque};
 
 use crate::math::{Pose, Vec3};
 use crate::TriMesh;
 
-/// Largest `E_A E_B + (F_A + F_B)(V_A + V_B)` the exact path takes on (above it, the local
-/// search).
+/// Largest work the exact path takes on (above it, the local search): crossing tests with
+/// Gauss maps, `candidates x vertices` without.
 pub const MAX_WORK: usize = 50_000_000;
 
-/// A convex polytope's face normals and edge directions (body frame, unit), and its edges'
-/// arcs on the Gauss map.
+/// What the crossing test and the flat-corner test count as zero (unit vectors).
+const ROUNDING: f64 = 1e-12;
+
+/// A convex polytope (body frame): the candidates over every edge pair, and its Gauss map.
 #[derive(Clone, Debug)]
 pub(crate) struct Polytope {
-    /// Outward face normals: one per face where `arcs` are in use, else one per triangle.
+    /// Every non-degenerate triangle's outward normal.
     normals: Vec<Vec3>,
+    /// Every edge's unit direction.
     edges: Vec<Vec3>,
-    /// Every edge between two faces that are not coplanar (the normals are then one per face,
-    /// coplanar triangles joined); `None` when a degenerate triangle
-    /// or two faces back to back leave some edge without a proper arc (module docs).
-    arcs: Option<Vec<Arc>>,
+    /// `None` where a degenerate triangle or two faces back to back leave an edge without a
+    /// proper arc (module docs).
+    gauss: Option<GaussMap>,
 }
 
-/// An edge's arc on the Gauss map: its two faces' outward unit normals and its unit direction
-/// (body frame).
+/// A convex polytope's Gauss map (body frame) and what the supports are climbed on.
+#[derive(Clone, Debug)]
+struct GaussMap {
+    /// One outward normal per face (coplanar triangles joined), one of its corners, and its
+    /// parent face (earlier, adjacent), in breadth-first order over the triangles.
+    faces: Vec<(Vec3, u32, u32)>,
+    /// Every edge between two faces that are not coplanar.
+    arcs: Vec<Arc>,
+    grid: Grid,
+    /// The corners' neighbours: `neighbors[offsets[v]..offsets[v + 1]]`.
+    offsets: Vec<u32>,
+    neighbors: Vec<u32>,
+    /// A corner whose triangles are coplanar (inside a face): their normal.
+    flat: Vec<Option<Vec3>>,
+}
+
+/// An edge's arc on the Gauss map: its two faces' outward unit normals, its unit direction,
+/// one of its corners, and the two faces (indices into [`GaussMap::faces`]).
 #[derive(Clone, Copy, Debug)]
 struct Arc {
     from: Vec3,
     to: Vec3,
     edge: Vec3,
+    corner: u32,
+    faces: [u32; 2],
+}
+
+impl Arc {
+    /// The arc's box on the sphere: its ends' box, widened by how far the arc bows out of its
+    /// chord (`1 - cos(angle / 2)`) and by rounding.
+    fn bounds(&self) -> (Vec3, Vec3) {
+        let bow = 1.0 - (0.5 * (1.0 + self.from.dot(self.to))).max(0.0).sqrt() + 1e-9;
+        (
+            self.from.min(self.to) - Vec3::splat(bow),
+            self.from.max(self.to) + Vec3::splat(bow),
+        )
+    }
+
+    /// The arc turned by `r`, its corner kept.
+    fn turned(&self, r: &crate::math::Mat3) -> Self {
+        Self {
+            from: *r * self.from,
+            to: *r * self.to,
+            edge: *r * self.edge,
+            ..*self
+        }
+    }
+}
+
+/// A uniform grid of `n^3` cells over `[-1, 1]^3`.
+#[derive(Clone, Copy, Debug)]
+struct Cells {
+    n: usize,
+    size: f64,
+}
+
+impl Cells {
+    /// The cell index of a coordinate, clamped into the grid.
+    #[inline]
+    fn index(&self, x: f64) -> usize {
+        // Truncation is the floor of a non-negative number (and `floor` a library call here).
+        (((x + 1.0) / self.size).max(0.0) as usize).min(self.n - 1)
+    }
+
+    /// Calls `f` with every cell that the box `(lo, hi)` meets.
+    #[inline]
+    fn each(&self, (lo, hi): (Vec3, Vec3), mut f: impl FnMut(usize)) {
+        let n = self.n;
+        for i in self.index(lo.x)..=self.index(hi.x) {
+            for j in self.index(lo.y)..=self.index(hi.y) {
+                for k in self.index(lo.z)..=self.index(hi.z) {
+                    f((i * n + j) * n + k);
+                }
+            }
+        }
+    }
+}
+
+/// Arcs bucketed by a grid of cells about as wide as their mean chord (at most 32 a side),
+/// each in every cell its box meets: `items[offsets[c]..offsets[c + 1]]` for cell `c`.
+#[derive(Clone, Debug)]
+struct Grid {
+    cells: Cells,
+    offsets: Vec<u32>,
+    items: Vec<u32>,
+}
+
+impl Grid {
+    fn new(arcs: &[Arc]) -> Self {
+        let mean =
+            arcs.iter().map(|a| (a.to - a.from).length()).sum::<f64>() / arcs.len().max(1) as f64;
+        let n = if mean > 0.0 {
+            ((2.0 / mean) as usize).clamp(1, 32)
+        } else {
+            1
+        };
+        let cells = Cells {
+            n,
+            size: 2.0 / n as f64,
+        };
+        // Counted into offsets[c + 1], summed, then filled from each cell's front.
+        let mut offsets = vec![0u32; n * n * n + 1];
+        for a in arcs {
+            cells.each(a.bounds(), |c| offsets[c + 1] += 1);
+        }
+        for c in 1..offsets.len() {
+            offsets[c] += offsets[c - 1];
+        }
+        let mut items = vec![0; offsets[n * n * n] as usize];
+        let mut next = offsets.clone();
+        for (k, a) in arcs.iter().enumerate() {
+            cells.each(a.bounds(), |c| {
+                items[next[c] as usize] = k as u32;
+                next[c] += 1;
+            });
+        }
+        Self {
+            cells,
+            offsets,
+            items,
+        }
+    }
+
+    /// The arcs (indices) bucketed in cell `c`.
+    #[inline]
+    fn cell(&self, c: usize) -> &[u32] {
+        &self.items[self.offsets[c] as usize..self.offsets[c + 1] as usize]
+    }
+}
+
+impl GaussMap {
+    /// The corner of `vertices` (body frame) farthest along `d`, climbed from `start` (module
+    /// docs).
+    fn support(&self, vertices: &[Vec3], d: Vec3, start: u32) -> u32 {
+        let mut v = start as usize;
+        let mut best = d.dot(vertices[v]);
+        loop {
+            let mut next = v;
+            for &u in &self.neighbors[self.offsets[v] as usize..self.offsets[v + 1] as usize] {
+                let s = d.dot(vertices[u as usize]);
+                if s > best {
+                    (best, next) = (s, u as usize);
+                }
+            }
+            if next == v {
+                break;
+            }
+            v = next;
+        }
+        match self.flat[v] {
+            // Inside a face turned away from `d`: not a support (module docs).
+            Some(m) if m.dot(d) < 0.0 => {
+                (0..vertices.len())
+                    .filter(|&u| self.offsets[u] < self.offsets[u + 1])
+                    .fold((f64::NEG_INFINITY, v), |(b, w), u| {
+                        let s = d.dot(vertices[u]);
+                        if s > b {
+                            (s, u)
+                        } else {
+                            (b, w)
+                        }
+                    })
+                    .1 as u32
+            }
+            _ => v as u32,
+        }
+    }
 }
 
 /// The mesh as a convex polytope, or `None` when it is open or not convex.
@@ -129,57 +317,136 @@ pub(crate) fn polytope(mesh: &TriMesh) -> Option<Polytope> {
     if beside.values().any(|&(c, _)| c != 2) {
         return None;
     }
-    let mut edges = Vec::with_capacity(beside.len());
-    let mut arcs = Some(Vec::with_capacity(beside.len()));
-    // Coplanar triangles joined into faces (union-find over the edges between them): one
-    // normal per face is a candidate where the arcs are in use.
+    // Sorted, so that the same mesh always gives the same lists (the hash map's order is
+    // random): ties between equal candidates then always resolve alike.
+    let mut beside: Vec<_> = beside.into_iter().collect();
+    beside.sort_unstable_by_key(|&(edge, _)| edge);
+    let edges = beside
+        .iter()
+        .filter_map(|&((a, b), _)| (v[b as usize] - v[a as usize]).try_normalize())
+        .collect();
+    let gauss = gauss_map(mesh, &outward, &beside);
+    Some(Polytope {
+        normals,
+        edges,
+        gauss,
+    })
+}
+
+/// The Gauss map of a closed convex mesh whose triangles have the outward normals `outward`
+/// and whose edges have the triangles `beside` them, or `None` where an edge has no proper
+/// arc (module docs).
+#[allow(clippy::type_complexity)]
+fn gauss_map(
+    mesh: &TriMesh,
+    outward: &[Option<Vec3>],
+    beside: &[((u32, u32), (u32, [usize; 2]))],
+) -> Option<GaussMap> {
+    let v = mesh.vertices();
+    let coplanar = |m: Vec3, n: Vec3| m.cross(n).length() <= ROUNDING && m.dot(n) > 0.0;
+    // Coplanar triangles joined into faces (union-find over the edges between them).
     let mut face: Vec<usize> = (0..outward.len()).collect();
-    let root = |face: &mut Vec<usize>, mut k: usize| {
+    fn root(face: &mut [usize], mut k: usize) -> usize {
         while face[k] != k {
             face[k] = face[face[k]];
             k = face[k];
         }
         k
-    };
-    for (&(a, b), &(_, [k1, k2])) in &beside {
-        let Some(edge) = (v[b as usize] - v[a as usize]).try_normalize() else {
-            continue;
-        };
-        edges.push(edge);
-        match (outward[k1], outward[k2]) {
-            // Coplanar faces: a point for an arc (module docs).
-            (Some(from), Some(to)) if from.cross(to).length() <= 1e-12 && from.dot(to) > 0.0 => {
-                let (r1, r2) = (root(&mut face, k1), root(&mut face, k2));
-                face[r1] = r2;
-            }
-            // A proper arc, shorter than a half circle.
-            (Some(from), Some(to)) if from.dot(to) > -1.0 + 1e-9 => {
-                if let Some(list) = arcs.as_mut() {
-                    list.push(Arc { from, to, edge });
-                }
-            }
-            _ => arcs = None,
+    }
+    let mut arcs = Vec::with_capacity(beside.len());
+    let mut next_to: Vec<Vec<usize>> = vec![Vec::new(); outward.len()];
+    for &((a, b), (_, [k1, k2])) in beside {
+        next_to[k1].push(k2);
+        next_to[k2].push(k1);
+        let (from, to) = (outward[k1]?, outward[k2]?);
+        if coplanar(from, to) {
+            let (r1, r2) = (root(&mut face, k1), root(&mut face, k2));
+            face[r1] = r2;
+        } else if from.dot(to) > -1.0 + 1e-9 {
+            let edge = (v[b as usize] - v[a as usize]).try_normalize()?;
+            arcs.push(Arc {
+                from,
+                to,
+                edge,
+                corner: a,
+                // Triangles for now, faces below.
+                faces: [k1 as u32, k2 as u32],
+            });
+        } else {
+            return None;
         }
     }
-    if arcs.is_some() {
-        normals = (0..outward.len())
-            .filter(|&k| root(&mut face, k) == k)
-            .filter_map(|k| outward[k])
-            .collect();
+    // The faces in breadth-first order over the triangles, each with a corner and the face
+    // whose triangle reached it first (its parent, an earlier face: their normals are near).
+    let mut faces = Vec::new();
+    let mut index = vec![u32::MAX; outward.len()];
+    let mut seen = vec![false; outward.len()];
+    for first in 0..outward.len() {
+        if seen[first] {
+            continue;
+        }
+        seen[first] = true;
+        let mut queue = VecDeque::from([(first, first)]);
+        while let Some((k, from)) = queue.pop_front() {
+            let r = root(&mut face, k);
+            if index[r] == u32::MAX {
+                index[r] = faces.len() as u32;
+                let parent = index[root(&mut face, from)].min(index[r]);
+                faces.push((outward[r]?, mesh.triangles()[k][0], parent));
+            }
+            for &j in &next_to[k] {
+                if !seen[j] {
+                    seen[j] = true;
+                    queue.push_back((j, k));
+                }
+            }
+        }
     }
-    Some(Polytope {
-        normals,
-        edges,
+    for arc in &mut arcs {
+        arc.faces = arc.faces.map(|k| index[root(&mut face, k as usize)]);
+    }
+    // The corners' neighbours, and which corners lie inside a face.
+    let mut lists: Vec<Vec<u32>> = vec![Vec::new(); v.len()];
+    let mut flat: Vec<Option<Option<Vec3>>> = vec![None; v.len()];
+    for (k, t) in mesh.triangles().iter().enumerate() {
+        let n = outward[k]?;
+        for i in 0..3 {
+            let (p, q) = (t[i], t[(i + 1) % 3]);
+            lists[p as usize].push(q);
+            lists[q as usize].push(p);
+            let f = &mut flat[p as usize];
+            *f = match *f {
+                None => Some(Some(n)),
+                Some(Some(m)) if coplanar(m, n) => Some(Some(m)),
+                _ => Some(None),
+            };
+        }
+    }
+    let mut offsets = Vec::with_capacity(v.len() + 1);
+    let mut neighbors = Vec::new();
+    offsets.push(0u32);
+    for list in &mut lists {
+        list.sort_unstable();
+        list.dedup();
+        neighbors.extend_from_slice(list);
+        offsets.push(neighbors.len() as u32);
+    }
+    let grid = Grid::new(&arcs);
+    Some(GaussMap {
+        faces,
         arcs,
+        grid,
+        offsets,
+        neighbors,
+        flat: flat.into_iter().map(Option::flatten).collect(),
     })
 }
 
 /// Whether arc `a` (of `A`) and arc `b` negated (of `-B`) cross, within rounding (module docs):
 /// the crossing's side of the facet normal `e_A x e_B`, `+1.0` or `-1.0`, `0.0` when rounding
-/// leaves it open (both signs are then tried), `None` when they do not cross.
+/// leaves it open, `None` when they do not cross.
 #[inline]
 fn crossing(a: &Arc, b: &Arc) -> Option<f64> {
-    const ROUNDING: f64 = 1e-12;
     let opposite =
         |x: f64, y: f64| !((x > ROUNDING && y > ROUNDING) || (x < -ROUNDING && y < -ROUNDING));
     // Arc of -B: from -b.from to -b.to; the plane through a's arc has normal a.edge.
@@ -206,8 +473,8 @@ fn crossing(a: &Arc, b: &Arc) -> Option<f64> {
 }
 
 /// The exact depth of convex `b` (placed by `pose_b`) into convex `a`: the overlap, the unit
-/// direction to move `b` along, and the two support points (world), or `None` when the
-/// candidates are too many ([`MAX_WORK`]).
+/// direction to move `b` along, and the two support points (world), or `None` when the work
+/// would be too much ([`MAX_WORK`]).
 pub(crate) fn exact_depth(
     a: &TriMesh,
     pa: &Polytope,
@@ -216,14 +483,118 @@ pub(crate) fn exact_depth(
     pb: &Polytope,
     pose_b: &Pose,
 ) -> Option<(f64, Vec3, Vec3, Vec3)> {
-    let vertices = a.num_vertices() + b.num_vertices();
-    let faces = pa.normals.len() + pb.normals.len();
-    let pairs = pa.edges.len().saturating_mul(pb.edges.len());
-    let work = match (&pa.arcs, &pb.arcs) {
-        (Some(_), Some(_)) => pairs.saturating_add(faces.saturating_mul(vertices)),
-        _ => (faces.saturating_add(pairs)).saturating_mul(vertices),
+    match (&pa.gauss, &pb.gauss) {
+        (Some(ga), Some(gb)) => gauss_depth(a, ga, pose_a, b, gb, pose_b),
+        _ => every_pair_depth(a, pa, pose_a, b, pb, pose_b),
+    }
+}
+
+/// [`exact_depth`] on the Gauss maps (module docs), in `b`'s frame, the result turned into the
+/// world.
+fn gauss_depth(
+    a: &TriMesh,
+    ga: &GaussMap,
+    pose_a: &Pose,
+    b: &TriMesh,
+    gb: &GaussMap,
+    pose_b: &Pose,
+) -> Option<(f64, Vec3, Vec3, Vec3)> {
+    let rel = pose_b.inv_mul(pose_a);
+    let back = rel.rotation.transpose();
+    let (va, vb) = (a.vertices(), b.vertices());
+    // (overlap, normal, A's point, B's point), `b`'s frame.
+    let mut best = (f64::INFINITY, Vec3::Z, Vec3::ZERO, Vec3::ZERO);
+    let mut consider = |o: f64, n: Vec3, p: Vec3, q: Vec3| {
+        if o < best.0 {
+            best = (o, n, p, q);
+        }
     };
-    if work > MAX_WORK {
+    // Both supports climbed along `n` (`b`'s frame), from corners `start`.
+    let climbed = |n: Vec3, (sa, sb): (u32, u32)| {
+        let ia = ga.support(va, back * n, sa);
+        let ib = gb.support(vb, -n, sb);
+        let p = rel.transform_point(va[ia as usize]);
+        let q = vb[ib as usize];
+        (n.dot(p - q), p, q, ib)
+    };
+    // Each face's search on the other body starts from its parent face's answer.
+    let mut on_b = vec![gb.faces.first().map_or(0, |f| f.1); ga.faces.len()];
+    for (k, &(n, corner, parent)) in ga.faces.iter().enumerate() {
+        let (o, p, q, ib) = climbed(rel.rotation * n, (corner, on_b[parent as usize]));
+        on_b[k] = ib;
+        consider(o, rel.rotation * n, p, q);
+    }
+    let mut found = vec![ga.faces.first().map_or(0, |f| f.1); gb.faces.len()];
+    for (k, &(m, corner, parent)) in gb.faces.iter().enumerate() {
+        // The facet normal -m: A's support along -m, B's along m (its own face).
+        let ia = ga.support(va, -(back * m), found[parent as usize]);
+        found[k] = ia;
+        let ib = gb.support(vb, m, corner);
+        let (p, q) = (rel.transform_point(va[ia as usize]), vb[ib as usize]);
+        consider((-m).dot(p - q), -m, p, q);
+    }
+    let mut stamp = vec![u32::MAX; gb.arcs.len()];
+    let mut tests = 0usize;
+    for (k, x) in ga.arcs.iter().enumerate() {
+        // Both ends in one region of `-B`'s Gauss map: no crossing (module docs).
+        if on_b[x.faces[0] as usize] == on_b[x.faces[1] as usize] {
+            continue;
+        }
+        let x = x.turned(&rel.rotation);
+        let p = rel.transform_point(va[x.corner as usize]);
+        // `B`'s arcs are bucketed where they are; those of `-B` near `x` are where `-x` is.
+        let (lo, hi) = x.bounds();
+        gb.grid.cells.each((-hi, -lo), |c| {
+            for &j in gb.grid.cell(c) {
+                if stamp[j as usize] == k as u32 {
+                    continue;
+                }
+                stamp[j as usize] = k as u32;
+                tests += 1;
+                let y = &gb.arcs[j as usize];
+                let Some(side) = crossing(&x, y) else {
+                    continue;
+                };
+                let Some(n) = x.edge.cross(y.edge).try_normalize() else {
+                    continue;
+                };
+                if side != 0.0 {
+                    let (n, q) = (n * side, vb[y.corner as usize]);
+                    consider(n.dot(p - q), n, p, q);
+                } else {
+                    for n in [n, -n] {
+                        let (o, p, q, _) = climbed(n, (x.corner, y.corner));
+                        consider(o, n, p, q);
+                    }
+                }
+            }
+        });
+        if tests > MAX_WORK {
+            return None;
+        }
+    }
+    let (o, n, p, q) = best;
+    Some((
+        o,
+        pose_b.rotation * n,
+        pose_b.transform_point(p),
+        pose_b.transform_point(q),
+    ))
+}
+
+/// [`exact_depth`] over every triangle normal with both signs and every edge pair, each
+/// overlap by loops over every corner: for meshes without a Gauss map, and the oracle of the
+/// tests.
+fn every_pair_depth(
+    a: &TriMesh,
+    pa: &Polytope,
+    pose_a: &Pose,
+    b: &TriMesh,
+    pb: &Polytope,
+    pose_b: &Pose,
+) -> Option<(f64, Vec3, Vec3, Vec3)> {
+    let candidates = pa.normals.len() + pb.normals.len() + pa.edges.len() * pb.edges.len();
+    if candidates.saturating_mul(a.num_vertices() + b.num_vertices()) > MAX_WORK {
         return None;
     }
     let va: Vec<Vec3> = a
@@ -254,68 +625,25 @@ pub(crate) fn exact_depth(
         (best_a - best_b, sa, sb)
     };
     let mut best = (f64::INFINITY, Vec3::Z, Vec3::ZERO, Vec3::ZERO);
-    let mut consider = |n: Vec3, sides: &[f64]| {
-        for &side in sides {
-            let n = n * side;
+    let mut consider = |n: Vec3| {
+        for n in [n, -n] {
             let (o, sa, sb) = overlap(n);
             if o < best.0 {
                 best = (o, n, sa, sb);
             }
         }
     };
-    const BOTH: [f64; 2] = [1.0, -1.0];
-    // With arcs, the normals are outward and one per face: the facets of `A - B` have those of
-    // `A` and those of `B` negated. Without (a flat mesh), both signs, as for the edge pairs.
-    let sides = |p: &Polytope, outward: f64| {
-        if p.arcs.is_some() {
-            vec![outward]
-        } else {
-            BOTH.to_vec()
-        }
-    };
-    let (sides_a, sides_b) = (sides(pa, 1.0), sides(pb, -1.0));
     for n in &pa.normals {
-        consider(pose_a.rotation * *n, &sides_a);
+        consider(pose_a.rotation * *n);
     }
     for n in &pb.normals {
-        consider(pose_b.rotation * *n, &sides_b);
+        consider(pose_b.rotation * *n);
     }
-    match (&pa.arcs, &pb.arcs) {
-        (Some(arcs_a), Some(arcs_b)) => {
-            let world = |list: &[Arc], pose: &Pose| -> Vec<Arc> {
-                let r = pose.rotation;
-                list.iter()
-                    .map(|x| Arc {
-                        from: r * x.from,
-                        to: r * x.to,
-                        edge: r * x.edge,
-                    })
-                    .collect()
-            };
-            let (arcs_a, arcs_b) = (world(arcs_a, pose_a), world(arcs_b, pose_b));
-            for x in &arcs_a {
-                for y in &arcs_b {
-                    let Some(side) = crossing(x, y) else {
-                        continue;
-                    };
-                    if let Some(n) = x.edge.cross(y.edge).try_normalize() {
-                        match side {
-                            s if s > 0.0 => consider(n, &BOTH[..1]),
-                            s if s < 0.0 => consider(n, &BOTH[1..]),
-                            _ => consider(n, &BOTH),
-                        }
-                    }
-                }
-            }
-        }
-        _ => {
-            for ea in &pa.edges {
-                let ea = pose_a.rotation * *ea;
-                for eb in &pb.edges {
-                    if let Some(n) = ea.cross(pose_b.rotation * *eb).try_normalize() {
-                        consider(n, &BOTH);
-                    }
-                }
+    for ea in &pa.edges {
+        let ea = pose_a.rotation * *ea;
+        for eb in &pb.edges {
+            if let Some(n) = ea.cross(pose_b.rotation * *eb).try_normalize() {
+                consider(n);
             }
         }
     }
@@ -330,19 +658,23 @@ mod tests {
     use crate::motion::sampling::unit;
     use rand::{Rng, SeedableRng};
     use rand_chacha::ChaCha8Rng;
+    use std::collections::HashMap;
 
     /// A convex mesh under a random linear map (boxes, coarse UV spheres and cylinders,
     /// stretched and sheared: still convex, with every kind of dihedral angle).
     fn random_convex(rng: &mut ChaCha8Rng) -> TriMesh {
-        let base = match rng.random_range(0..4) {
-            0 => mesh::box_mesh(Vec3::new(0.5, 0.3, 0.8)),
-            1 => mesh::sphere(0.6, rng.random_range(2..7), rng.random_range(3..10)),
-            2 => mesh::cylinder(0.4, 1.0),
-            _ => mesh::box_mesh(Vec3::new(0.9, 0.05, 0.4)),
-        }
-        .expect("mesh");
+        let base = match rng.random_range(0..5) {
+            0 => mesh::box_mesh(Vec3::new(0.5, 0.3, 0.8)).expect("box"),
+            1 => mesh::sphere(0.6, rng.random_range(2..7), rng.random_range(3..10)).expect("ball"),
+            2 => mesh::cylinder(0.4, 1.0).expect("cylinder"),
+            3 => mesh::box_mesh(Vec3::new(0.9, 0.05, 0.4)).expect("slab"),
+            _ => gridded_box(rng.random_range(2..5), Vec3::new(0.6, 0.4, 0.5)),
+        };
         let mut map = Mat3::IDENTITY;
-        for k in 0..3 {
+        // Each axis stretched and sheared three times in four: the others keep faces parallel
+        // to other shapes' faces.
+        let stretched: Vec<usize> = (0..3).filter(|_| rng.random_range(0..4) > 0).collect();
+        for k in stretched {
             let column = Vec3::new(
                 rng.random_range(-0.3..0.3),
                 rng.random_range(-0.3..0.3),
@@ -362,19 +694,66 @@ mod tests {
         TriMesh::new(vertices, base.triangles().to_vec()).expect("mapped mesh")
     }
 
+    /// A box of half extents `h` whose faces are `n x n` grids of squares, two triangles each:
+    /// corners inside faces (flat) and along edges (collinear).
+    fn gridded_box(n: u32, h: Vec3) -> TriMesh {
+        let mut index = HashMap::new();
+        let mut vertices = Vec::new();
+        let mut corner = |p: [u32; 3]| {
+            *index.entry(p).or_insert_with(|| {
+                let f = |i: u32, e: f64| (2.0 * f64::from(i) / f64::from(n) - 1.0) * e;
+                vertices.push(Vec3::new(f(p[0], h.x), f(p[1], h.y), f(p[2], h.z)));
+                (vertices.len() - 1) as u32
+            })
+        };
+        let mut triangles = Vec::new();
+        for axis in 0..3 {
+            for side in [0, n] {
+                for i in 0..n {
+                    for j in 0..n {
+                        let at = |di: u32, dj: u32| {
+                            let mut p = [0; 3];
+                            p[axis] = side;
+                            p[(axis + 1) % 3] = i + di;
+                            p[(axis + 2) % 3] = j + dj;
+                            p
+                        };
+                        let q = [at(0, 0), at(1, 0), at(1, 1), at(0, 1)].map(&mut corner);
+                        triangles.push([q[0], q[1], q[2]]);
+                        triangles.push([q[0], q[2], q[3]]);
+                    }
+                }
+            }
+        }
+        TriMesh::new(vertices, triangles).expect("gridded box")
+    }
+
+    /// A rotation that is a random multiple of a quarter turn about a coordinate axis, or a
+    /// random one.
+    fn rotation(rng: &mut ChaCha8Rng, axis_aligned: bool) -> Pose {
+        if axis_aligned {
+            let axis = [Vec3::X, Vec3::Y, Vec3::Z][rng.random_range(0..3)];
+            let turns = f64::from(rng.random_range(0..4u8));
+            Pose::from_axis_angle(axis, turns * std::f64::consts::FRAC_PI_2, Vec3::ZERO)
+        } else {
+            Pose::from_axis_angle(unit(rng), rng.random_range(0.0..3.0), Vec3::ZERO)
+        }
+    }
+
     /// Every edge pair, as before the Gauss-map test: the oracle.
     fn all_pairs(p: &Polytope) -> Polytope {
         Polytope {
-            arcs: None,
+            gauss: None,
             ..p.clone()
         }
     }
 
-    /// The Gauss-map test drops only edge pairs that give no facet: on 600 random overlapping
-    /// or nearly touching pairs of convex meshes (coarse spheres, boxes, cylinders, stretched
-    /// and sheared), the depth equals that over every edge pair to 1e-12 relative, the sign
-    /// (overlap or not) agrees on every pair, and the test keeps under 5% of the pairs (about
-    /// 2% here).
+    /// The Gauss map drops only candidates that give no facet: on 600 random overlapping or
+    /// nearly touching pairs of convex meshes (coarse spheres, boxes, cylinders, boxes with
+    /// gridded faces, most stretched and sheared, a quarter turned by quarter turns only), the
+    /// depth equals that over every candidate with loops over every corner to 1e-12 relative,
+    /// the sign (overlap or not) agrees on every pair, the points are the supports along the
+    /// direction, and the crossing test keeps under 5% of the edge pairs.
     #[test]
     fn crossing_test_keeps_every_facet() {
         let mut rng = ChaCha8Rng::seed_from_u64(11);
@@ -385,15 +764,18 @@ mod tests {
                 a.convex_polytope().expect("convex a"),
                 b.convex_polytope().expect("convex b"),
             );
-            assert!(pa.arcs.is_some() && pb.arcs.is_some(), "case {case}");
-            let pose_a =
-                Pose::from_axis_angle(unit(&mut rng), rng.random_range(0.0..3.0), Vec3::ZERO);
-            let reach = rng.random_range(0.0..1.6);
-            let pose_b = Pose::from_axis_angle(
-                unit(&mut rng),
-                rng.random_range(0.0..3.0),
-                unit(&mut rng) * reach,
+            let (ga, gb) = (
+                pa.gauss.as_ref().expect("a Gauss map"),
+                pb.gauss.as_ref().expect("a Gauss map"),
             );
+            // A quarter with quarter turns: parallel faces, arcs through each other's ends.
+            let aligned = case % 4 == 0;
+            let pose_a = rotation(&mut rng, aligned);
+            let reach = rng.random_range(0.0..1.6);
+            let pose_b = Pose {
+                translation: unit(&mut rng) * reach,
+                ..rotation(&mut rng, aligned)
+            };
             let fast = exact_depth(&a, pa, &pose_a, &b, pb, &pose_b).expect("small");
             let slow = exact_depth(&a, &all_pairs(pa), &pose_a, &b, &all_pairs(pb), &pose_b)
                 .expect("small");
@@ -412,29 +794,84 @@ mod tests {
                     fast.0,
                     slow.0
                 );
-                // The direction found separates by the depth: its overlap is the depth.
-                assert!((fast.1.length() - 1.0).abs() < 1e-12);
+                // The direction is a unit vector, and the points are the supports along it
+                // whose gap is the overlap.
+                let n = fast.1;
+                assert!((n.length() - 1.0).abs() < 1e-12);
+                let reach_a = a
+                    .vertices()
+                    .iter()
+                    .map(|&p| n.dot(pose_a.transform_point(p)));
+                let reach_b = b
+                    .vertices()
+                    .iter()
+                    .map(|&p| n.dot(pose_b.transform_point(p)));
+                assert!((n.dot(fast.2) - reach_a.fold(f64::MIN, f64::max)).abs() < 1e-12);
+                assert!((n.dot(fast.3) - reach_b.fold(f64::MAX, f64::min)).abs() < 1e-12);
+                assert!((n.dot(fast.2 - fast.3) - fast.0).abs() < 1e-12);
             }
-            let (arcs_a, arcs_b) = (pa.arcs.as_ref().unwrap(), pb.arcs.as_ref().unwrap());
             all += pa.edges.len() * pb.edges.len();
-            for x in arcs_a {
-                let x = Arc {
-                    from: pose_a.rotation * x.from,
-                    to: pose_a.rotation * x.to,
-                    edge: pose_a.rotation * x.edge,
-                };
-                for y in arcs_b {
-                    let y = Arc {
-                        from: pose_b.rotation * y.from,
-                        to: pose_b.rotation * y.to,
-                        edge: pose_b.rotation * y.edge,
-                    };
-                    kept += usize::from(crossing(&x, &y).is_some());
+            for x in &ga.arcs {
+                let x = x.turned(&pose_a.rotation);
+                for y in &gb.arcs {
+                    kept += usize::from(crossing(&x, &y.turned(&pose_b.rotation)).is_some());
                 }
             }
         }
         assert!(overlapping >= 300, "{overlapping} overlapping pairs");
         assert!(kept * 20 < all, "{kept} of {all} edge pairs kept");
+    }
+
+    /// An arc's box holds every point of the arc, the bow out of its chord included (arcs of
+    /// up to nearly a half turn).
+    #[test]
+    fn arc_bounds_hold_the_arc() {
+        let mut rng = ChaCha8Rng::seed_from_u64(5);
+        for _ in 0..2000 {
+            let (from, to) = (unit(&mut rng), unit(&mut rng));
+            if from.dot(to) < -1.0 + 1e-6 {
+                continue;
+            }
+            let arc = Arc {
+                from,
+                to,
+                edge: Vec3::X,
+                corner: 0,
+                faces: [0, 1],
+            };
+            let (lo, hi) = arc.bounds();
+            for k in 0..=100 {
+                let s = f64::from(k) / 100.0;
+                let p = (from * (1.0 - s) + to * s).normalize();
+                assert!(
+                    p.cmpge(lo).all() && p.cmple(hi).all(),
+                    "{p} outside {lo} {hi}"
+                );
+            }
+        }
+    }
+
+    /// A climb that ends inside a flat face turned away from the direction (every neighbour
+    /// as far along it) takes the support from every corner: from the centre of a gridded
+    /// box's top face, downwards, the support is on the bottom face.
+    #[test]
+    fn climb_off_a_flat_face() {
+        let cube = gridded_box(2, Vec3::splat(0.5));
+        let g = cube
+            .convex_polytope()
+            .and_then(|p| p.gauss.as_ref())
+            .expect("Gauss map");
+        let top = cube
+            .vertices()
+            .iter()
+            .position(|&p| p == Vec3::new(0.0, 0.0, 0.5))
+            .expect("centre of the top face") as u32;
+        assert!(g.flat[top as usize].is_some());
+        let down = g.support(cube.vertices(), -Vec3::Z, top);
+        assert_eq!(cube.vertices()[down as usize].z, -0.5);
+        // Upwards, the climb stays on the top face.
+        let up = g.support(cube.vertices(), Vec3::Z, top);
+        assert_eq!(cube.vertices()[up as usize].z, 0.5);
     }
 
     /// A box's face diagonals are coplanar edges and have no arc; a flat closed mesh (two
@@ -444,8 +881,10 @@ mod tests {
         let cube = mesh::box_mesh(Vec3::splat(0.5)).expect("box");
         let p = cube.convex_polytope().expect("convex");
         assert_eq!(p.edges.len(), 18);
-        assert_eq!(p.normals.len(), 6);
-        assert_eq!(p.arcs.as_ref().map(Vec::len), Some(12));
+        assert_eq!(
+            p.gauss.as_ref().map(|g| (g.faces.len(), g.arcs.len())),
+            Some((6, 12))
+        );
         let flat = TriMesh::new(
             vec![Vec3::ZERO, Vec3::X, Vec3::Y],
             vec![[0, 1, 2], [0, 2, 1]],
@@ -454,7 +893,7 @@ mod tests {
         let q = flat
             .convex_polytope()
             .expect("a flat closed mesh is convex");
-        assert!(q.arcs.is_none());
+        assert!(q.gauss.is_none());
         let turned = Pose::from_axis_angle(Vec3::X, 0.3, Vec3::new(0.1, 0.1, 0.0));
         let d = exact_depth(&cube, p, &Pose::IDENTITY, &flat, q, &turned).expect("small");
         let e =
