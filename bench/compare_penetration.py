@@ -116,7 +116,8 @@ def convex_polytopes(pairs):
 
 def hull_sizes(sizes=(20, 100, 300, 1000, 3000), poses=8):
     """Convex hulls of n random points on two ellipsoids (every point a corner), overlapping at
-    `poses` seeded poses per size: tocsin's exact path beside coal's GJK/EPA, and their depths
+    `poses` seeded poses per size: tocsin (its exact path, unless the work is too much) beside
+    coal's GJK/EPA, and their depths
     against scipy's hull of all vertex differences up to 300 points (9e4 differences)."""
     import coal
     from scipy.spatial import ConvexHull
@@ -127,8 +128,8 @@ def hull_sizes(sizes=(20, 100, 300, 1000, 3000), poses=8):
         "overlapping poses per size; error against scipy's hull of all vertex differences (up to 300 points), "
         "and tocsin against coal.",
         "",
-        "| points (triangles) | tocsin exact, median us | coal EPA, median us | worst error, tocsin | worst error, coal | worst tocsin - coal |",
-        "|---|---:|---:|---:|---:|---:|",
+        "| points (triangles) | tocsin, median us | exact answers | coal EPA, median us | worst error, tocsin | worst error, coal | worst tocsin - coal |",
+        "|---|---:|---:|---:|---:|---:|---:|",
     ]
     req = coal.CollisionRequest(coal.CollisionRequestFlag.CONTACT, 1)
     for n in sizes:
@@ -165,12 +166,12 @@ def hull_sizes(sizes=(20, 100, 300, 1000, 3000), poses=8):
                 eq = ConvexHull(diff).equations
                 oracles.append(max((-eq[:, 3]).min(), 0.0))
         times, answers = sweeps(calls)
-        assert all(r.exact for r in answers["tocsin"]), "the exact path gave up"
+        exact = sum(r.exact for r in answers["tocsin"])
         depths = [r.depth for r in answers["tocsin"]]
         err = lambda got: f"{max(abs(g - o) / max(o, 1e-12) for g, o in zip(got, oracles)):.1e}" if oracles else "-"
         gap = max(abs(d - c) / max(c, 1e-12) for d, c in zip(depths, answers["coal"]))
         lines.append(
-            f"| {n} ({a.num_triangles}) | {statistics.median(times['tocsin']) * 1e6:.0f} | "
+            f"| {n} ({a.num_triangles}) | {statistics.median(times['tocsin']) * 1e6:.0f} | {exact}/{poses} | "
             f"{statistics.median(times['coal']) * 1e6:.0f} | {err(depths)} | {err(answers['coal'])} | {gap:.1e} |"
         )
     return "\n".join(lines)
