@@ -25,12 +25,21 @@
 //!   from there. Not for a corner inside a flat face (its edges span only the face's plane): a
 //!   walk that ends at one on a face turned away from `d` takes the support by a loop over
 //!   every corner instead.
+//! - *Bounds before climbs.* Any corner `q` of `B` gives `h_B(-m) >= -m.q`, so a face of `A`
+//!   (normal `m`, corner `p`) has an overlap of at least `m.(p - q)`; a face whose bound, from
+//!   the support found for the nearest face above it in the breadth-first tree, already reaches
+//!   the best overlap so far is not climbed (nor are the faces of `B`, the same way). An arc
+//!   of `A` with corner `p` has, at every normal `n` on it, an overlap of at least `n.(p - q)`
+//!   for the corner `q` of either face, so at least `mid.(p - q) - r |p - q|` with `mid` its
+//!   midpoint and `r` its ends' distance from it; an arc whose bound reaches the best is not
+//!   looked up. Only what lies near the deepest directions is searched: on two hulls of 1,000
+//!   points (3,992 faces) 84 faces were climbed.
 //! - *Crossing pairs from a grid.* `B`'s arcs are bucketed once, in `B`'s frame, in a uniform
 //!   grid over the cube around the sphere (cells about as wide as its mean arc, each arc in
 //!   every cell of its box, widened by how far the arc bows out of its chord); each arc of `A`,
 //!   turned into `B`'s frame, is tested only against the arcs in the cells of its own box.
-//! - *Arcs within one region skipped.* The faces' supports on the other body say in which
-//!   region of its Gauss map each face normal lies. An arc of `A` whose two ends have the same
+//! - *Arcs within one region skipped.* The climbed faces' supports on the other body say in
+//!   which region of its Gauss map each face normal lies. An arc of `A` whose two ends have the same
 //!   support on `B` lies in that one region (the regions are convex, the arcs geodesics
 //!   shorter than a half circle) and crosses none of `B`'s arcs: it is not tested. Where an
 //!   end lies on a region's border, the support taken is one of the regions it touches, and an
@@ -110,6 +119,9 @@ struct Arc {
     edge: Vec3,
     corner: u32,
     faces: [u32; 2],
+    /// The arc's midpoint, and how far its points are from it at most (its ends' distance).
+    mid: Vec3,
+    spread: f64,
 }
 
 impl Arc {
@@ -129,6 +141,7 @@ impl Arc {
             from: *r * self.from,
             to: *r * self.to,
             edge: *r * self.edge,
+            mid: *r * self.mid,
             ..*self
         }
     }
@@ -364,6 +377,7 @@ fn gauss_map(
             face[r1] = r2;
         } else if from.dot(to) > -1.0 + 1e-9 {
             let edge = (v[b as usize] - v[a as usize]).try_normalize()?;
+            let mid = (from + to).normalize();
             arcs.push(Arc {
                 from,
                 to,
@@ -371,6 +385,8 @@ fn gauss_map(
                 corner: a,
                 // Triangles for now, faces below.
                 faces: [k1 as u32, k2 as u32],
+                mid,
+                spread: (from - mid).length(),
             });
         } else {
             return None;
@@ -504,11 +520,11 @@ fn gauss_depth(
     let (va, vb) = (a.vertices(), b.vertices());
     // (overlap, normal, A's point, B's point), `b`'s frame.
     let mut best = (f64::INFINITY, Vec3::Z, Vec3::ZERO, Vec3::ZERO);
-    let mut consider = |o: f64, n: Vec3, p: Vec3, q: Vec3| {
+    fn keep(best: &mut (f64, Vec3, Vec3, Vec3), o: f64, n: Vec3, p: Vec3, q: Vec3) {
         if o < best.0 {
-            best = (o, n, p, q);
+            *best = (o, n, p, q);
         }
-    };
+    }
     // Both supports climbed along `n` (`b`'s frame), from corners `start`.
     let climbed = |n: Vec3, (sa, sb): (u32, u32)| {
         let ia = ga.support(va, back * n, sa);
@@ -517,31 +533,70 @@ fn gauss_depth(
         let q = vb[ib as usize];
         (n.dot(p - q), p, q, ib)
     };
-    // Each face's search on the other body starts from its parent face's answer.
-    let mut on_b = vec![gb.faces.first().map_or(0, |f| f.1); ga.faces.len()];
+    // A face's overlap is bounded from below without climbing by any corner of the other body
+    // (module docs): from the support climbed for the nearest face above it in the
+    // breadth-first tree. Those whose bound reaches the best overlap so far are not climbed,
+    // and pass that corner on to their children.
+    let scale = {
+        let (ra, rb) = (a.bvh().root(), b.bvh().root());
+        ra.corner_radius()
+            + rb.corner_radius()
+            + (rel.transform_point(ra.center) - rb.center).length()
+    };
+    let margin = ROUNDING * scale;
+    // Per face of `A`: the corner of `B` its bound and its climb start from, and whether it
+    // was climbed (that corner then its support along `-m`).
+    let mut near_b = vec![gb.faces.first().map_or(0, |f| f.1); ga.faces.len()];
+    let mut climbed_a = vec![false; ga.faces.len()];
     for (k, &(n, corner, parent)) in ga.faces.iter().enumerate() {
-        let (o, p, q, ib) = climbed(rel.rotation * n, (corner, on_b[parent as usize]));
-        on_b[k] = ib;
-        consider(o, rel.rotation * n, p, q);
+        let m = rel.rotation * n;
+        let from = near_b[parent as usize];
+        near_b[k] = from;
+        let bound = m.dot(rel.transform_point(va[corner as usize]) - vb[from as usize]);
+        if k > 0 && bound - margin >= best.0 {
+            continue;
+        }
+        let (o, p, q, ib) = climbed(m, (corner, from));
+        (near_b[k], climbed_a[k]) = (ib, true);
+        keep(&mut best, o, m, p, q);
     }
-    let mut found = vec![ga.faces.first().map_or(0, |f| f.1); gb.faces.len()];
+    // The same for the faces of `B` (facet normal `-m`), with corners of `A`.
+    let mut near_a = vec![ga.faces.first().map_or(0, |f| f.1); gb.faces.len()];
     for (k, &(m, corner, parent)) in gb.faces.iter().enumerate() {
+        let from = near_a[parent as usize];
+        near_a[k] = from;
+        let bound = (-m).dot(rel.transform_point(va[from as usize]) - vb[corner as usize]);
+        if k > 0 && bound - margin >= best.0 {
+            continue;
+        }
         // The facet normal -m: A's support along -m, B's along m (its own face).
-        let ia = ga.support(va, -(back * m), found[parent as usize]);
-        found[k] = ia;
+        let ia = ga.support(va, -(back * m), from);
         let ib = gb.support(vb, m, corner);
         let (p, q) = (rel.transform_point(va[ia as usize]), vb[ib as usize]);
-        consider((-m).dot(p - q), -m, p, q);
+        near_a[k] = ia;
+        keep(&mut best, (-m).dot(p - q), -m, p, q);
     }
     let mut stamp = vec![u32::MAX; gb.arcs.len()];
     let mut tests = 0usize;
     for (k, x) in ga.arcs.iter().enumerate() {
+        let [f0, f1] = x.faces.map(|f| f as usize);
         // Both ends in one region of `-B`'s Gauss map: no crossing (module docs).
-        if on_b[x.faces[0] as usize] == on_b[x.faces[1] as usize] {
+        if climbed_a[f0] && climbed_a[f1] && near_b[f0] == near_b[f1] {
+            continue;
+        }
+        // Over the whole arc, from its faces' corners of `B` (module docs), in `A`'s frame.
+        let p = rel.transform_point(va[x.corner as usize]);
+        let bound = [near_b[f0], near_b[f1]]
+            .into_iter()
+            .map(|j| {
+                let w = p - vb[j as usize];
+                x.mid.dot(back * w) - x.spread * w.length()
+            })
+            .fold(f64::NEG_INFINITY, f64::max);
+        if bound - margin >= best.0 {
             continue;
         }
         let x = x.turned(&rel.rotation);
-        let p = rel.transform_point(va[x.corner as usize]);
         // `B`'s arcs are bucketed where they are; those of `-B` near `x` are where `-x` is.
         let (lo, hi) = x.bounds();
         gb.grid.cells.each((-hi, -lo), |c| {
@@ -560,11 +615,11 @@ fn gauss_depth(
                 };
                 if side != 0.0 {
                     let (n, q) = (n * side, vb[y.corner as usize]);
-                    consider(n.dot(p - q), n, p, q);
+                    keep(&mut best, n.dot(p - q), n, p, q);
                 } else {
                     for n in [n, -n] {
                         let (o, p, q, _) = climbed(n, (x.corner, y.corner));
-                        consider(o, n, p, q);
+                        keep(&mut best, o, n, p, q);
                     }
                 }
             }
@@ -838,6 +893,8 @@ mod tests {
                 edge: Vec3::X,
                 corner: 0,
                 faces: [0, 1],
+                mid: Vec3::X,
+                spread: 0.0,
             };
             let (lo, hi) = arc.bounds();
             for k in 0..=100 {
