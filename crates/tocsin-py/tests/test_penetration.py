@@ -178,3 +178,36 @@ def test_convex_polytopes_against_the_minkowski_difference_hull():
         assert r.exact
         assert abs(r.depth - oracle) <= 1e-9 * max(oracle, 1e-12), (case, r.depth, oracle)
     assert checked >= 20
+
+
+def test_large_convex_hulls_against_the_minkowski_difference_hull():
+    """Hulls of 200 points on two ellipsoids (about 400 faces and 600 edges each: the Gauss-map
+    path's grid, climbs and bounds all at work) at random rotations and shifts: the exact depth
+    equals the distance from the origin to the boundary of scipy's hull of all 40,000 vertex
+    differences."""
+    from scipy.spatial import ConvexHull
+
+    rng = np.random.default_rng(12)
+    pts = []
+    for semi in ([1.0, 0.7, 0.5], [0.6, 0.9, 0.4]):
+        p = rng.normal(size=(200, 3))
+        pts.append(p / np.linalg.norm(p, axis=1)[:, None] * semi)
+    a, b = (tocsin.Mesh(p, ConvexHull(p).simplices.astype(np.int64)) for p in pts)
+    checked = 0
+    for case in range(12):
+        q, _ = np.linalg.qr(rng.normal(size=(3, 3)))
+        q *= np.sign(np.linalg.det(q))
+        p2 = np.eye(4)
+        p2[:3, :3], p2[:3, 3] = q, rng.normal(size=3) * 0.4
+        diff = (pts[0][:, None, :] - (pts[1] @ q.T + p2[:3, 3])[None, :, :]).reshape(-1, 3)
+        eq = ConvexHull(diff).equations
+        r = tocsin.penetration_depth(a, np.eye(4), b, p2)
+        assert r.exact, case
+        if (eq[:, 3] >= 0).any():
+            assert r.status == "separated", (case, r.depth)
+            continue
+        oracle = (-eq[:, 3]).min()
+        checked += 1
+        assert abs(r.depth - oracle) <= 1e-9 * oracle, (case, r.depth, oracle)
+        assert abs(np.linalg.norm(r.direction) - 1.0) < 1e-12
+    assert checked >= 8
