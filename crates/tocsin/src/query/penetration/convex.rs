@@ -20,11 +20,12 @@
 //!
 //! - *Supports by climbing.* A support along `d` is found by walking the mesh's edges to a
 //!   neighbour with a larger `d.p` until none has one, each face's search starting where that
-//!   of an adjacent face ended (its parent in a breadth-first order over the faces). On a convex surface a corner with no larger neighbour is a support:
-//!   its triangles cover a neighbourhood of it, so its edges span the cone the polytope lies in
-//!   from there. Not for a corner inside a flat face (its edges span only the face's plane): a
-//!   walk that ends at one on a face turned away from `d` takes the support by a loop over
-//!   every corner instead.
+//!   of an adjacent face ended (its parent in a breadth-first order over the faces). On a
+//!   convex surface a corner with no larger neighbour is a support: its triangles cover a
+//!   neighbourhood of it, so its edges span the cone the polytope lies in from there. Not for
+//!   a corner inside a flat face (its edges span only the face's plane): a walk that ends at
+//!   one on a face turned away from `d` takes the support by a loop over every corner
+//!   instead.
 //! - *Bounds before climbs.* Any corner `q` of `B` gives `h_B(-m) >= -m.q`, so a face of `A`
 //!   (normal `m`, corner `p`) has an overlap of at least `m.(p - q)`; a face whose bound, from
 //!   the support found for the nearest face above it in the breadth-first tree, already reaches
@@ -39,8 +40,8 @@
 //!   every cell of its box, widened by how far the arc bows out of its chord); each arc of `A`,
 //!   turned into `B`'s frame, is tested only against the arcs in the cells of its own box.
 //! - *Arcs within one region skipped.* The climbed faces' supports on the other body say in
-//!   which region of its Gauss map each face normal lies. An arc of `A` whose two ends have the same
-//!   support on `B` lies in that one region (the regions are convex, the arcs geodesics
+//!   which region of its Gauss map each face normal lies. An arc of `A` whose two ends have
+//!   the same support on `B` lies in that one region (the regions are convex, the arcs geodesics
 //!   shorter than a half circle) and crosses none of `B`'s arcs: it is not tested. Where an
 //!   end lies on a region's border, the support taken is one of the regions it touches, and an
 //!   arc that then stays in that region's closure meets the other arcs only at its end, a face
