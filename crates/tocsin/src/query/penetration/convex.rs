@@ -177,8 +177,8 @@ impl Cells {
     }
 }
 
-/// Arcs bucketed by a grid of cells about as wide as their mean chord (at most 32 a side),
-/// each in every cell its box meets: `items[offsets[c]..offsets[c + 1]]` for cell `c`.
+/// Arcs bucketed by a uniform grid, each in every cell its box meets:
+/// `items[offsets[c]..offsets[c + 1]]` for cell `c`.
 #[derive(Clone, Debug)]
 struct Grid {
     cells: Cells,
@@ -187,18 +187,32 @@ struct Grid {
 }
 
 impl Grid {
+    /// The grid for `arcs`: cells about as wide as their mean chord (at most 32 a side), halved
+    /// in number a side while the arcs would take more than [`Self::budget`] places (long arcs
+    /// among short ones, such as the caps' of a prism of many sides, each cover many cells).
     fn new(arcs: &[Arc]) -> Self {
         let mean =
             arcs.iter().map(|a| (a.to - a.from).length()).sum::<f64>() / arcs.len().max(1) as f64;
-        let n = if mean > 0.0 {
+        let mut n = if mean > 0.0 {
             ((2.0 / mean) as usize).clamp(1, 32)
         } else {
             1
         };
-        let cells = Cells {
+        let shape = |n: usize| Cells {
             n,
             size: 2.0 / n as f64,
         };
+        let too_many = |cells: Cells| {
+            let mut places = 0usize;
+            arcs.iter().any(|a| {
+                cells.each(a.bounds(), |_| places += 1);
+                places > Self::budget(arcs.len())
+            })
+        };
+        while n > 1 && too_many(shape(n)) {
+            n /= 2;
+        }
+        let cells = shape(n);
         // Counted into offsets[c + 1], summed, then filled from each cell's front.
         let mut offsets = vec![0u32; n * n * n + 1];
         for a in arcs {
@@ -220,6 +234,11 @@ impl Grid {
             offsets,
             items,
         }
+    }
+
+    /// The most places the arcs may take: 32 per arc and a million more.
+    fn budget(arcs: usize) -> usize {
+        32 * arcs + (1 << 20)
     }
 
     /// The arcs (indices) bucketed in cell `c`.
@@ -930,6 +949,102 @@ mod tests {
         // Upwards, the climb stays on the top face.
         let up = g.support(cube.vertices(), Vec3::Z, top);
         assert_eq!(cube.vertices()[up as usize].z, 0.5);
+    }
+
+    /// A prism of `n` sides (radius 1, height 2), its caps fanned from their centres (corners
+    /// inside a face).
+    fn prism(n: u32) -> TriMesh {
+        let mut vertices = vec![Vec3::new(0.0, 0.0, -1.0), Vec3::new(0.0, 0.0, 1.0)];
+        for k in 0..n {
+            let t = std::f64::consts::TAU * f64::from(k) / f64::from(n);
+            vertices.push(Vec3::new(t.cos(), t.sin(), -1.0));
+            vertices.push(Vec3::new(t.cos(), t.sin(), 1.0));
+        }
+        let mut triangles = Vec::new();
+        for k in 0..n {
+            let (b0, t0) = (2 + 2 * k, 3 + 2 * k);
+            let (b1, t1) = (2 + 2 * ((k + 1) % n), 3 + 2 * ((k + 1) % n));
+            triangles.extend([[0, b1, b0], [1, t0, t1], [b0, b1, t1], [b0, t1, t0]]);
+        }
+        TriMesh::new(vertices, triangles).expect("prism")
+    }
+
+    /// Prisms of many sides: the caps' long arcs among the sides' short ones. At 5,000 sides
+    /// the grid stays within its budget and a box across a side gets its depth; at 64 sides,
+    /// turned across each other, the depth equals that over every candidate.
+    #[test]
+    fn prisms_of_many_sides() {
+        let big = prism(5000);
+        let pb = big.convex_polytope().expect("convex");
+        let g = pb.gauss.as_ref().expect("Gauss map");
+        assert!(g.grid.items.len() <= Grid::budget(g.arcs.len()));
+        // A box across its side: the depth is how far the box must go out through the side
+        // (0.9 - 0.2 + 0.3 = 1, within the polygon's 2e-7 of the circle), along +x.
+        let cube = mesh::box_mesh(Vec3::splat(0.2)).expect("box");
+        let pc = cube.convex_polytope().expect("convex");
+        let at = Pose::from_axis_angle(Vec3::Z, 0.0, Vec3::new(0.9, 0.0, 0.0));
+        let d = exact_depth(&big, pb, &Pose::IDENTITY, &cube, pc, &at).expect("an answer");
+        assert!((d.0 - 0.3).abs() < 1e-6 && d.1.x > 0.999_999, "{d:?}");
+        let small = prism(64);
+        let p = small.convex_polytope().expect("convex");
+        let mut rng = ChaCha8Rng::seed_from_u64(8);
+        for case in 0..20 {
+            let pose_b = Pose {
+                translation: unit(&mut rng) * 0.8,
+                ..rotation(&mut rng, case % 2 == 0)
+            };
+            let fast = exact_depth(&small, p, &Pose::IDENTITY, &small, p, &pose_b).expect("small");
+            let (every, at) = (all_pairs(p), Pose::IDENTITY);
+            let slow = exact_depth(&small, &every, &at, &small, &every, &pose_b).expect("small");
+            assert!(slow.0 > 0.0, "case {case}: apart");
+            assert!(
+                (fast.0 - slow.0).abs() <= 1e-12 * slow.0,
+                "case {case}: {} vs {}",
+                fast.0,
+                slow.0
+            );
+        }
+    }
+
+    /// Many short arcs and some nearly half circles (each of which covers most of a fine grid):
+    /// the grid coarsens until the places stay within the budget, and every arc is in every
+    /// cell its box meets.
+    #[test]
+    fn grid_budget_with_long_arcs_among_short_ones() {
+        let mut rng = ChaCha8Rng::seed_from_u64(3);
+        let arc = |from: Vec3, to: Vec3| {
+            let mid = (from + to).normalize();
+            Arc {
+                from,
+                to,
+                edge: from.cross(to).normalize(),
+                corner: 0,
+                faces: [0, 1],
+                mid,
+                spread: (from - mid).length(),
+            }
+        };
+        let mut arcs = Vec::new();
+        for _ in 0..100_000 {
+            let from = unit(&mut rng);
+            arcs.push(arc(from, (from + unit(&mut rng) * 1e-3).normalize()));
+        }
+        for _ in 0..2_000 {
+            let from = unit(&mut rng);
+            let side = from.cross(unit(&mut rng)).normalize();
+            arcs.push(arc(from, (-from + side * 0.05).normalize()));
+        }
+        let grid = Grid::new(&arcs);
+        assert!(
+            grid.items.len() <= Grid::budget(arcs.len()),
+            "{}",
+            grid.items.len()
+        );
+        assert!(grid.cells.n < 32);
+        for (k, a) in arcs.iter().enumerate().step_by(97) {
+            grid.cells
+                .each(a.bounds(), |c| assert!(grid.cell(c).contains(&(k as u32))));
+        }
     }
 
     /// A box's face diagonals are coplanar edges and have no arc; a flat closed mesh (two
