@@ -67,18 +67,24 @@
 //!
 //! A mesh counts as a convex polytope when it is closed (every edge shared by exactly two
 //! triangles) and every vertex lies behind every non-degenerate face's plane (within 1e-9 of
-//! its size). The path gives up for the local search beyond [`MAX_WORK`] crossing tests (two
-//! prisms of many sides turned across each other have a Minkowski difference of `E_A E_B`
-//! facets) or, without Gauss maps, `(F_A + F_B + E_A E_B)(V_A + V_B)`.
+//! its size). The path gives up for the local search beyond [`MAX_TESTS`] crossing tests (two
+//! prisms of many sides turned across each other have a Minkowski difference of about
+//! `E_A E_B` facets: at 500 sides the exact path takes 18 ms, at 5,000 it gives up) or, without
+//! Gauss maps, beyond [`MAX_WORK`] for `(F_A + F_B + E_A E_B)(V_A + V_B)`.
 
 use std::collections::{HashMap, VecDeque};
 
 use crate::math::{Pose, Vec3};
 use crate::TriMesh;
 
-/// Largest work the exact path takes on (above it, the local search): crossing tests with
-/// Gauss maps, `candidates x vertices` without.
+/// Largest `candidates x vertices` the exact path takes on without Gauss maps (above it, the
+/// local search).
 pub const MAX_WORK: usize = 50_000_000;
+
+/// Most crossing tests the exact path makes with Gauss maps before it gives up for the local
+/// search. Two prisms of 5,000 sides turned across each other spend 26 ms before giving up
+/// (375 ms at 50 million); the local search then takes 185 ms.
+pub const MAX_TESTS: usize = 10_000_000;
 
 /// What the crossing test and the flat-corner test count as zero (unit vectors).
 const ROUNDING: f64 = 1e-12;
@@ -510,7 +516,7 @@ fn crossing(a: &Arc, b: &Arc) -> Option<f64> {
 
 /// The exact depth of convex `b` (placed by `pose_b`) into convex `a`: the overlap, the unit
 /// direction to move `b` along, and the two support points (world), or `None` when the work
-/// would be too much ([`MAX_WORK`]).
+/// would be too much ([`MAX_TESTS`], [`MAX_WORK`]).
 pub(crate) fn exact_depth(
     a: &TriMesh,
     pa: &Polytope,
@@ -644,7 +650,7 @@ fn gauss_depth(
                 }
             }
         });
-        if tests > MAX_WORK {
+        if tests > MAX_TESTS {
             return None;
         }
     }
