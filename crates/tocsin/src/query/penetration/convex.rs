@@ -551,12 +551,15 @@ fn gauss_depth(
             *best = (o, n, p, q);
         }
     }
+    // Each body's corners in the other's frame, once: the bounds below are then dot products.
+    let va_in_b: Vec<Vec3> = va.iter().map(|&p| rel.transform_point(p)).collect();
+    let to_a = rel.inverse();
+    let vb_in_a: Vec<Vec3> = vb.iter().map(|&q| to_a.transform_point(q)).collect();
     // Both supports climbed along `n` (`b`'s frame), from corners `start`.
     let climbed = |n: Vec3, (sa, sb): (u32, u32)| {
         let ia = ga.support(va, back * n, sa);
         let ib = gb.support(vb, -n, sb);
-        let p = rel.transform_point(va[ia as usize]);
-        let q = vb[ib as usize];
+        let (p, q) = (va_in_b[ia as usize], vb[ib as usize]);
         (n.dot(p - q), p, q, ib)
     };
     // A face's overlap is bounded from below without climbing by any corner of the other body
@@ -571,34 +574,34 @@ fn gauss_depth(
     };
     let margin = ROUNDING * scale;
     // Per face of `A`: the corner of `B` its bound and its climb start from, and whether it
-    // was climbed (that corner then its support along `-m`).
+    // was climbed (that corner then its support along `-m`). Bounds in `A`'s frame.
     let mut near_b = vec![gb.faces.first().map_or(0, |f| f.1); ga.faces.len()];
     let mut climbed_a = vec![false; ga.faces.len()];
     for (k, &(n, corner, parent)) in ga.faces.iter().enumerate() {
-        let m = rel.rotation * n;
         let from = near_b[parent as usize];
         near_b[k] = from;
-        let bound = m.dot(rel.transform_point(va[corner as usize]) - vb[from as usize]);
+        let bound = n.dot(va[corner as usize] - vb_in_a[from as usize]);
         if k > 0 && bound - margin >= best.0 {
             continue;
         }
+        let m = rel.rotation * n;
         let (o, p, q, ib) = climbed(m, (corner, from));
         (near_b[k], climbed_a[k]) = (ib, true);
         keep(&mut best, o, m, p, q);
     }
-    // The same for the faces of `B` (facet normal `-m`), with corners of `A`.
+    // The same for the faces of `B` (facet normal `-m`), with corners of `A`, in `B`'s frame.
     let mut near_a = vec![ga.faces.first().map_or(0, |f| f.1); gb.faces.len()];
     for (k, &(m, corner, parent)) in gb.faces.iter().enumerate() {
         let from = near_a[parent as usize];
         near_a[k] = from;
-        let bound = (-m).dot(rel.transform_point(va[from as usize]) - vb[corner as usize]);
+        let bound = (-m).dot(va_in_b[from as usize] - vb[corner as usize]);
         if k > 0 && bound - margin >= best.0 {
             continue;
         }
         // The facet normal -m: A's support along -m, B's along m (its own face).
         let ia = ga.support(va, -(back * m), from);
         let ib = gb.support(vb, m, corner);
-        let (p, q) = (rel.transform_point(va[ia as usize]), vb[ib as usize]);
+        let (p, q) = (va_in_b[ia as usize], vb[ib as usize]);
         near_a[k] = ia;
         keep(&mut best, (-m).dot(p - q), -m, p, q);
     }
@@ -611,17 +614,17 @@ fn gauss_depth(
             continue;
         }
         // Over the whole arc, from its faces' corners of `B` (module docs), in `A`'s frame.
-        let p = rel.transform_point(va[x.corner as usize]);
         let bound = [near_b[f0], near_b[f1]]
             .into_iter()
             .map(|j| {
-                let w = p - vb[j as usize];
-                x.mid.dot(back * w) - x.spread * w.length()
+                let w = va[x.corner as usize] - vb_in_a[j as usize];
+                x.mid.dot(w) - x.spread * w.length()
             })
             .fold(f64::NEG_INFINITY, f64::max);
         if bound - margin >= best.0 {
             continue;
         }
+        let p = va_in_b[x.corner as usize];
         let x = x.turned(&rel.rotation);
         // `B`'s arcs are bucketed where they are; those of `-B` near `x` are where `-x` is.
         let (lo, hi) = x.bounds();
