@@ -67,7 +67,8 @@
 //!
 //! A mesh counts as a convex polytope when it is closed (every edge shared by exactly two
 //! triangles) and every vertex lies behind every non-degenerate face's plane (within 1e-9 of
-//! its size). The path gives up for the local search beyond [`MAX_TESTS`] crossing tests (two
+//! its size; on a mesh convex only to that, a climb may stop as far short of a support, and
+//! the depth be off by as much). The path gives up for the local search beyond [`MAX_TESTS`] crossing tests (two
 //! prisms of many sides turned across each other have a Minkowski difference of about
 //! `E_A E_B` facets: at 500 sides the exact path takes 18 ms, at 5,000 it gives up) or, without
 //! Gauss maps, beyond [`MAX_WORK`] for `(F_A + F_B + E_A E_B)(V_A + V_B)`.
