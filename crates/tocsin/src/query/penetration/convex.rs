@@ -528,7 +528,7 @@ pub(crate) fn exact_depth(
 ) -> Option<(f64, Vec3, Vec3, Vec3)> {
     match (&pa.gauss, &pb.gauss) {
         (Some(ga), Some(gb)) => gauss_depth(a, ga, pose_a, b, gb, pose_b),
-        _ => every_pair_depth(a, pa, pose_a, b, pb, pose_b),
+        _ => every_pair_depth((a, pa, pose_a), (b, pb, pose_b)),
     }
 }
 
@@ -671,12 +671,8 @@ fn gauss_depth(
 /// overlap by loops over every corner: for meshes without a Gauss map, and the oracle of the
 /// tests.
 fn every_pair_depth(
-    a: &TriMesh,
-    pa: &Polytope,
-    pose_a: &Pose,
-    b: &TriMesh,
-    pb: &Polytope,
-    pose_b: &Pose,
+    (a, pa, pose_a): (&TriMesh, &Polytope, &Pose),
+    (b, pb, pose_b): (&TriMesh, &Polytope, &Pose),
 ) -> Option<(f64, Vec3, Vec3, Vec3)> {
     let candidates = pa.normals.len() + pb.normals.len() + pa.edges.len() * pb.edges.len();
     if candidates.saturating_mul(a.num_vertices() + b.num_vertices()) > MAX_WORK {
