@@ -110,6 +110,7 @@ struct GaussMap {
     faces: Vec<(Vec3, u32, u32)>,
     /// Every edge between two faces that are not coplanar.
     arcs: Vec<Arc>,
+    /// `arcs` bucketed by where they lie on the sphere.
     grid: Grid,
     /// The corners' neighbours: `neighbors[offsets[v]..offsets[v + 1]]`.
     offsets: Vec<u32>,
