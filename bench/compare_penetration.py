@@ -60,6 +60,29 @@ def random_rotation(rng):
     )
 
 
+def coal_convex(points):
+    """coal's convex hull of `points`, as its GJK/EPA takes it."""
+    import coal
+
+    v = coal.StdVec_Vec3s()
+    for q in points:
+        v.append(q)
+    return coal.Convex.convexHull(v, False, "")
+
+
+def ellipsoid_hulls(rng, n):
+    """Two hulls of `n` random points on the ellipsoids of semi-axes 1 x 0.7 x 0.5 and
+    0.6 x 0.9 x 0.4 (every point a corner): their points, the tocsin meshes and coal's hulls."""
+    from scipy.spatial import ConvexHull
+
+    pts = []
+    for semi in ([1.0, 0.7, 0.5], [0.6, 0.9, 0.4]):
+        p = rng.normal(size=(n, 3))
+        pts.append(p / np.linalg.norm(p, axis=1)[:, None] * semi)
+    meshes = [tocsin.Mesh(p, ConvexHull(p).simplices.astype(np.int64)) for p in pts]
+    return pts, meshes, [coal_convex(p) for p in pts]
+
+
 def convex_polytopes(pairs):
     """Random convex polytopes (hulls of 6 to 20 Gaussian points, some thin): tocsin's exact path
     and coal's GJK/EPA on the same hulls, against scipy's hull of the vertex differences."""
@@ -85,12 +108,7 @@ def convex_polytopes(pairs):
         p2 = np.eye(4)
         p2[:3, 3] = shift
         calls["tocsin"].append(lambda a=a, b=b, p2=p2: tocsin.penetration_depth(a, np.eye(4), b, p2).depth)
-        shapes = []
-        for pts in (pa, pb):
-            v = coal.StdVec_Vec3s()
-            for q in pts:
-                v.append(q)
-            shapes.append(coal.Convex.convexHull(v, False, ""))
+        shapes = [coal_convex(pa), coal_convex(pb)]
         ta, tb = coal.Transform3s(), coal.Transform3s(np.eye(3), shift)
 
         def coal_depth(sa=shapes[0], sb=shapes[1], ta=ta, tb=tb):
@@ -134,18 +152,7 @@ def hull_sizes(sizes=(20, 100, 300, 1000, 3000), poses=8):
     ]
     req = coal.CollisionRequest(coal.CollisionRequestFlag.CONTACT, 1)
     for n in sizes:
-        pts = []
-        for semi in ([1.0, 0.7, 0.5], [0.6, 0.9, 0.4]):
-            p = rng.normal(size=(n, 3))
-            pts.append(p / np.linalg.norm(p, axis=1)[:, None] * semi)
-        hulls = [ConvexHull(p) for p in pts]
-        a, b = (tocsin.Mesh(p, h.simplices.astype(np.int64)) for p, h in zip(pts, hulls))
-        shapes = []
-        for p in pts:
-            v = coal.StdVec_Vec3s()
-            for q in p:
-                v.append(q)
-            shapes.append(coal.Convex.convexHull(v, False, ""))
+        pts, (a, b), shapes = ellipsoid_hulls(rng, n)
         calls = {"tocsin": [], "coal": []}
         oracles = []
         for _ in range(poses):
@@ -183,7 +190,6 @@ def hull_distances(sizes=(20, 100, 1000), poses=16):
     apart; tocsin's `distance` (its BVH search, built for soups) beside coal's GJK on `Convex`
     objects, timed as loops, and the largest difference of the distances."""
     import coal
-    from scipy.spatial import ConvexHull
 
     rng = np.random.default_rng(1)
     lines = [
@@ -194,17 +200,7 @@ def hull_distances(sizes=(20, 100, 1000), poses=16):
     ]
     req = coal.DistanceRequest()
     for n in sizes:
-        pts = []
-        for semi in ([1.0, 0.7, 0.5], [0.6, 0.9, 0.4]):
-            p = rng.normal(size=(n, 3))
-            pts.append(p / np.linalg.norm(p, axis=1)[:, None] * semi)
-        a, b = (tocsin.Mesh(p, ConvexHull(p).simplices.astype(np.int64)) for p in pts)
-        shapes = []
-        for p in pts:
-            v = coal.StdVec_Vec3s()
-            for q in p:
-                v.append(q)
-            shapes.append(coal.Convex.convexHull(v, False, ""))
+        _, (a, b), shapes = ellipsoid_hulls(rng, n)
         calls = {"tocsin": [], "coal": []}
         for _ in range(poses):
             p2 = np.eye(4)
