@@ -52,14 +52,7 @@ fn closed_and_connected(mesh: &TriMesh) -> bool {
     let id = same_position(mesh.vertices());
     let mut balance: HashMap<(u32, u32), i64> = HashMap::with_capacity(3 * mesh.num_triangles());
     let mut parent: Vec<u32> = (0..id.len() as u32).collect();
-    fn root(parent: &mut [u32], mut i: u32) -> u32 {
-        while parent[i as usize] != i {
-            let p = parent[parent[i as usize] as usize];
-            parent[i as usize] = p;
-            i = p;
-        }
-        i
-    }
+    let root = super::union_root;
     for t in mesh.triangles() {
         let [a, b, c] = t.map(|i| id[i as usize]);
         for (x, y) in [(a, b), (b, c), (c, a)] {

@@ -386,14 +386,8 @@ fn gauss_map(
     let v = mesh.vertices();
     let coplanar = |m: Vec3, n: Vec3| m.cross(n).length() <= ROUNDING && m.dot(n) > 0.0;
     // Coplanar triangles joined into faces (union-find over the edges between them).
-    let mut face: Vec<usize> = (0..outward.len()).collect();
-    fn root(face: &mut [usize], mut k: usize) -> usize {
-        while face[k] != k {
-            face[k] = face[face[k]];
-            k = face[k];
-        }
-        k
-    }
+    let mut face: Vec<u32> = (0..outward.len() as u32).collect();
+    let root = |face: &mut [u32], k: usize| super::union_root(face, k as u32) as usize;
     let mut arcs = Vec::with_capacity(beside.len());
     let mut next_to: Vec<Vec<usize>> = vec![Vec::new(); outward.len()];
     for &((a, b), (_, [k1, k2])) in beside {
@@ -402,7 +396,7 @@ fn gauss_map(
         let (from, to) = (outward[k1]?, outward[k2]?);
         if coplanar(from, to) {
             let (r1, r2) = (root(&mut face, k1), root(&mut face, k2));
-            face[r1] = r2;
+            face[r1] = r2 as u32;
         } else if from.dot(to) > -1.0 + 1e-9 {
             let edge = (v[b as usize] - v[a as usize]).try_normalize()?;
             let mid = (from + to).normalize();

@@ -26,6 +26,17 @@ pub use hausdorff::{hausdorff_distance, HausdorffResult};
 pub use pointwise::{pointwise_penetration, PointwisePenetration};
 pub use winding::{contains, winding_number, WindingOptions};
 
+/// The root of `i` in a union-find forest (`parent[i] == i` at a root), halving the path on the
+/// way (the closed-surface test of [`balls`], the coplanar faces of [`convex`]).
+pub(crate) fn union_root(parent: &mut [u32], mut i: u32) -> u32 {
+    while parent[i as usize] != i {
+        let p = parent[parent[i as usize] as usize];
+        parent[i as usize] = p;
+        i = p;
+    }
+    i
+}
+
 /// The default error bound of the Hausdorff and pointwise-depth queries: `1e-4` of the smaller
 /// bounding radius (model units).
 pub fn default_max_error(mesh1: &crate::TriMesh, mesh2: &crate::TriMesh) -> f64 {
