@@ -214,6 +214,46 @@ impl Bvh {
     }
 }
 
+impl Bvh {
+    /// Whether some triangle corner lies farther than `level` along `direction` (mesh frame;
+    /// any length): depth first over the hierarchy, a subtree dropped where its volume's
+    /// support along `direction` is at most `level`. The test a plane needs to be a supporting
+    /// plane (the convex polytope test), which visits only the nodes reaching past the plane.
+    pub(crate) fn reaches_beyond(&self, direction: Vec3, level: f64) -> bool {
+        let reach = |r: &Rss| r.center.dot(direction) + r.spread().support(direction);
+        let mut stack = [0u32; 64];
+        let mut top = 1;
+        while top > 0 {
+            top -= 1;
+            let i = stack[top];
+            let node = &self.nodes[i as usize];
+            if reach(&node.rss) <= level {
+                continue;
+            }
+            if node.is_leaf() {
+                let corners = &self.leaf_corners[node.leaf_position() as usize];
+                if corners.iter().any(|v| v.dot(direction) > level) {
+                    return true;
+                }
+                continue;
+            }
+            let (l, r) = node.children(i);
+            if top + 2 > stack.len() {
+                // Deeper than any hierarchy built here: the exhaustive answer.
+                return self
+                    .leaf_corners
+                    .iter()
+                    .flatten()
+                    .any(|v| v.dot(direction) > level);
+            }
+            stack[top] = r;
+            stack[top + 1] = l;
+            top += 2;
+        }
+        false
+    }
+}
+
 /// Child pairs whose subtrees both hold at most this many triangles are also bounded, in the
 /// distance search, by projecting their corners. Measured on the knot34k workload of
 /// `examples/profile_distance.rs`, in instructions of the searches (callgrind; timings on

@@ -121,6 +121,11 @@ impl TriMesh {
             .as_ref()
     }
 
+    /// Whether the convex polytope test has been made (by an earlier query).
+    pub(crate) fn has_convex_polytope(&self) -> bool {
+        self.polytope.get().is_some()
+    }
+
     /// Balls inside the mesh, when its triangles form one closed connected surface (found on
     /// first use, then kept; see [`crate::query::penetration::balls`]).
     pub(crate) fn inscribed_balls(&self) -> &[crate::query::penetration::balls::Ball] {
