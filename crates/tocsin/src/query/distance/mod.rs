@@ -10,6 +10,7 @@ mod batch;
 mod distance_point_triangle;
 mod distance_segment_segment;
 mod distance_triangle_triangle;
+pub(crate) mod gjk;
 pub(crate) mod traverse;
 
 pub use batch::distance_batch;
@@ -18,6 +19,7 @@ pub use distance_segment_segment::closest_points_segment_segment;
 pub use distance_triangle_triangle::{
     distance_triangle_triangle, intersect_triangle_triangle, TrianglePairDistance,
 };
+pub use gjk::{GJK_MAX_VERTICES, ROUNDING as GJK_ROUNDING};
 
 use crate::error::OptionsError;
 use crate::math::{Pose, Vec3};
@@ -80,6 +82,8 @@ pub struct DistanceResult {
 pub struct DistanceCache {
     /// Leaf positions (in each hierarchy) of the last closest triangle pair.
     pub(crate) pair: Option<(u32, u32)>,
+    /// Where GJK ended, for two convex meshes.
+    pub(crate) simplex: gjk::WarmSimplex,
 }
 
 /// Exact (or, with error bounds in `options`, approximate) minimum distance between `mesh1` at
@@ -124,6 +128,20 @@ pub(crate) fn search_distance(
     cache: &mut DistanceCache,
 ) -> DistanceResult {
     let pos12 = pose1.inv_mul(pose2);
+    if let Some((s, simplex)) = convex_separation(mesh1, mesh2, &pos12, cache) {
+        cache.simplex = simplex;
+        let allowed = options.absolute_error + options.relative_error * s.gap.max(0.0);
+        if s.certifies(allowed) {
+            cache.pair = Some(s.leaves);
+            return DistanceResult {
+                distance: s.pair.distance,
+                point1: pose1.transform_point(s.pair.point1),
+                point2: pose1.transform_point(s.pair.point2),
+                triangle1: mesh1.bvh().triangle_index(s.leaves.0),
+                triangle2: mesh2.bvh().triangle_index(s.leaves.1),
+            };
+        }
+    }
     let mut search = DistanceSearch::new(mesh1, mesh2, &pos12, options, Stop::Never);
     search.run(cache.pair);
     let best = search.best();
@@ -142,9 +160,32 @@ pub fn within_distance(
 ) -> Result<bool, OptionsError> {
     check_non_negative("threshold", threshold)?;
     let pos12 = pose1.inv_mul(pose2);
+    if let Some((s, _)) = convex_separation(mesh1, mesh2, &pos12, &DistanceCache::default()) {
+        if s.certifies(0.0) && s.pair.distance <= threshold {
+            return Ok(true);
+        }
+        if s.safe_gap() > threshold {
+            return Ok(false);
+        }
+    }
     let options = DistanceOptions::default();
     let mut search =
         DistanceSearch::new(mesh1, mesh2, &pos12, &options, Stop::AtOrBelow(threshold));
     search.run(None);
     Ok(search.best().distance <= threshold)
+}
+
+/// GJK's separation of two convex meshes ([`gjk`]), mesh 2 placed by `pos12` in mesh 1's
+/// frame, warm-started from `cache`, and where GJK ended; `None` where either mesh is not a
+/// convex polytope the path takes or the solids overlap.
+fn convex_separation(
+    mesh1: &TriMesh,
+    mesh2: &TriMesh,
+    pos12: &Pose,
+    cache: &DistanceCache,
+) -> Option<(gjk::Separation, gjk::WarmSimplex)> {
+    let (p1, p2) = gjk::polytopes(mesh1, mesh2)?;
+    let mut g = gjk::Gjk::new(mesh1, p1, mesh2, p2, cache.pair, cache.simplex);
+    let s = g.separation(&pos12.rotation, pos12.translation)?;
+    Some((s, g.warm()))
 }

@@ -409,7 +409,10 @@ fn come_back(
         Err(_) => return Ok(None),
     };
     let still = Motion::stationary(*pose1);
-    let mut cache = ContactCache { pair: seed };
+    let mut cache = ContactCache {
+        pair: seed,
+        ..ContactCache::default()
+    };
     // Every caller found the meshes apart at `s0` with the exact `collide` (or, polishing, at a
     // touching translation the advancement left apart): not asked again.
     Ok(

@@ -18,7 +18,7 @@ pub mod convex;
 pub mod depth;
 pub mod hausdorff;
 pub mod pointwise;
-mod surface;
+pub(crate) mod surface;
 pub mod winding;
 
 pub use depth::{penetration_depth, DepthOptions, DepthStatus, PenetrationDepth};
