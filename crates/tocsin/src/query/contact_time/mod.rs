@@ -169,6 +169,8 @@ pub struct ContactTime {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct ContactCache {
     pub(crate) pair: Option<(u32, u32)>,
+    /// Where GJK ended, for two convex meshes.
+    pub(crate) simplex: crate::query::distance::gjk::WarmSimplex,
 }
 
 /// The tolerance a query with these options uses on these meshes and motions (model units):
@@ -496,7 +498,7 @@ fn advance_core<const PROBING: bool>(
     }
     let small_radius = mesh1.bounding_radius().min(mesh2.bounding_radius());
     let far = (50.0 * delta).max(small_radius / 50.0);
-    let mut search = StepSearch::new(mesh1, path1, mesh2, path2, delta);
+    let mut search = StepSearch::new(mesh1, path1, mesh2, path2, delta, cache.simplex);
     let mut t = span.start;
     let mut earlier = None;
     let mut last_distance = f64::INFINITY;
@@ -510,6 +512,7 @@ fn advance_core<const PROBING: bool>(
             span.slack.1
         };
         let out = search.run(t, window.min(span.end - t), slack, cache.pair);
+        cache.simplex = search.warm_simplex();
         match out {
             StepOutcome::Within { pair } => {
                 cache.pair = Some(pair);
@@ -662,7 +665,10 @@ pub(crate) fn finish(
     }
     let closest = |time: f64, cache: &mut ContactCache| {
         let (p1, p2) = (motion1.pose_at(time), motion2.pose_at(time));
-        let mut dcache = DistanceCache { pair: cache.pair };
+        let mut dcache = DistanceCache {
+            pair: cache.pair,
+            simplex: cache.simplex,
+        };
         let d = search_distance(
             mesh1,
             &p1,
@@ -671,7 +677,7 @@ pub(crate) fn finish(
             &DistanceOptions::default(),
             &mut dcache,
         );
-        cache.pair = dcache.pair;
+        (cache.pair, cache.simplex) = (dcache.pair, dcache.simplex);
         (d, p1, p2)
     };
     let (d, p1, p2) = closest(ends.time, cache);
@@ -680,7 +686,7 @@ pub(crate) fn finish(
         pair_direction(mesh1, &p1, mesh2, &p2, cache.pair, &d)
     } else {
         // The direction at this time is rounding noise: take it where the meshes were apart.
-        let mut before_cache = ContactCache { pair: cache.pair };
+        let mut before_cache = *cache;
         let before = ends
             .earlier
             .map(|t| {
