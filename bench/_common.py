@@ -26,12 +26,31 @@ def pose(rot, t):
     return p
 
 
+def ellipsoid_hull(rng, n, semi=(1.0, 0.7, 0.5)):
+    """The convex hull (scipy's) of `n` random points on the ellipsoid of semi-axes `semi`, every
+    point a corner: the points and the tocsin mesh."""
+    from scipy.spatial import ConvexHull
+
+    p = rng.normal(size=(n, 3))
+    p = p / np.linalg.norm(p, axis=1)[:, None] * np.asarray(semi)
+    return p, tocsin.Mesh(p, ConvexHull(p).simplices.astype(np.int64))
+
+
+def as_soup(mesh):
+    """The same surface with a degenerate triangle added at a corner: to the library no longer
+    a convex polytope, so its queries take the general path (the hierarchy's)."""
+    return tocsin.Mesh(mesh.vertices, np.vstack([mesh.triangles, [[0, 0, 0]]]))
+
+
 def models(names=None):
-    """The generated knots and, when pybullet_data is installed, its bunny and Panda links."""
+    """The generated knots, convex hulls of 100 and 1,000 points on an ellipsoid (seeded) and,
+    when pybullet_data is installed, its bunny and Panda links."""
     out = {
         "knot2.8k": lambda: tocsin.Mesh.torus_knot(175, 8),
         "knot11k": lambda: tocsin.Mesh.torus_knot(344, 16),
         "knot34k": lambda: tocsin.Mesh.torus_knot(680, 25),
+        "hull100": lambda: ellipsoid_hull(np.random.default_rng(100), 100)[1],
+        "hull1k": lambda: ellipsoid_hull(np.random.default_rng(1000), 1000)[1],
     }
     try:
         import pybullet_data

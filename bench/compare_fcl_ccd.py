@@ -1,5 +1,8 @@
 """Time of contact: tocsin vs python-fcl on the same seeded queries, in one run.
 
+Models: the knots, the bunny and a Panda link, and two convex hulls (100 and 1,000 points on
+an ellipsoid), whose time of contact steps by GJK's separation of the whole bodies; for those
+the same surface as a soup (a degenerate triangle added) shows the general path beside it.
 Per model and motion kind: body 1 driven through body 2 (fixed at the identity) with a 30 to 90
 degree rotation (none for translations), and near misses with a closest approach of about 1%
 of the bounding radius. Methods: tocsin.time_of_contact (the closest points at the time, the default) and with
@@ -32,7 +35,7 @@ import zlib
 import numpy as np
 
 import tocsin
-from _common import fcl_model, machine_line, models, pose, rotation, sweeps, write
+from _common import as_soup, fcl_model, machine_line, models, pose, rotation, sweeps, write
 
 import fcl
 
@@ -137,7 +140,7 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--quick", action="store_true")
     ap.add_argument("--out", default="bench/out/fcl_ccd.md")
-    ap.add_argument("--models", default="knot2.8k,knot34k,bunny,panda_link1")
+    ap.add_argument("--models", default="knot2.8k,knot34k,bunny,panda_link1,hull100,hull1k")
     args = ap.parse_args()
     n_through, n_near = (3, 2) if args.quick else (30, 20)
     lines = [
@@ -175,6 +178,15 @@ def main():
                 return lambda: tocsin.distance(mesh, s, mesh, still).distance
 
             methods = {"tocsin": ours, "tocsin contact pair": contact_pair, "tocsin motion_is_free": is_free, "tocsin distance at the start": start_distance}
+            if name.startswith("hull"):
+                # The convex hulls' time of contact steps by GJK's separation of the whole
+                # bodies; the same surface as a soup takes the general path.
+                soup = as_soup(mesh)
+
+                def general(mo, s, e, soup=soup):
+                    return lambda: (lambda r: None if r is None else r.time)(tocsin.time_of_contact(soup, mo, soup, stay))
+
+                methods["tocsin general path (as a soup)"] = general
             for label, solver, iters in (("fcl CA", fcl.CCDSolverType.CCDC_CONSERVATIVE_ADVANCEMENT, 100), ("fcl naive 100", fcl.CCDSolverType.CCDC_NAIVE, 100)):
                 req = fcl.ContinuousCollisionRequest(num_max_iterations=iters, ccd_motion_type=fcl_kind, ccd_solver_type=solver)
                 o2 = fcl.CollisionObject(fm, fcl.Transform())

@@ -31,7 +31,7 @@ import fcl
 import numpy as np
 
 import tocsin
-from _common import fcl_model, machine_line, sweeps
+from _common import ellipsoid_hull, fcl_model, machine_line, sweeps
 
 
 def sat_depth(h1, p1, h2, p2):
@@ -73,14 +73,8 @@ def coal_convex(points):
 def ellipsoid_hulls(rng, n):
     """Two hulls of `n` random points on the ellipsoids of semi-axes 1 x 0.7 x 0.5 and
     0.6 x 0.9 x 0.4 (every point a corner): their points, the tocsin meshes and coal's hulls."""
-    from scipy.spatial import ConvexHull
-
-    pts = []
-    for semi in ([1.0, 0.7, 0.5], [0.6, 0.9, 0.4]):
-        p = rng.normal(size=(n, 3))
-        pts.append(p / np.linalg.norm(p, axis=1)[:, None] * semi)
-    meshes = [tocsin.Mesh(p, ConvexHull(p).simplices.astype(np.int64)) for p in pts]
-    return pts, meshes, [coal_convex(p) for p in pts]
+    pts, meshes = zip(*(ellipsoid_hull(rng, n, semi) for semi in ([1.0, 0.7, 0.5], [0.6, 0.9, 0.4])))
+    return list(pts), list(meshes), [coal_convex(p) for p in pts]
 
 
 def convex_polytopes(pairs):
