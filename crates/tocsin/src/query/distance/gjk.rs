@@ -380,10 +380,22 @@ fn holding(
 /// inside some face, where it is that face's projection; every candidate is a point of the
 /// hull). A corner is always a candidate. With `with`, only the faces holding that corner (a new
 /// support: GJK's next nearest point lies on a face holding it, being nearer than the last).
+/// The first face, by decreasing size, whose projection is inside it and no other corner
+/// improves on is the answer at once.
 fn closest_on_simplex(s: &[Corner], with: Option<usize>) -> Option<(Vec3, u32, [f64; 4])> {
+    // Faces by decreasing size: a face whose projection falls inside it and from which no
+    // other corner leads nearer (`x.(w_j - x) >= 0`: the hull's nearest point, by convexity)
+    // ends the search; without one to rounding, the nearest candidate.
+    const ORDER: [&[u32]; 5] = [
+        &[],
+        &[1],
+        &[3, 1, 2],
+        &[7, 3, 5, 6, 1, 2, 4],
+        &[15, 7, 11, 13, 14, 3, 5, 6, 9, 10, 12, 1, 2, 4, 8],
+    ];
     let n = s.len();
     let mut best: Option<(f64, Vec3, u32, [f64; 4])> = None;
-    for mask in 1u32..(1 << n) {
+    for &mask in ORDER[n] {
         if with.is_some_and(|i| mask & (1 << i) == 0) {
             continue;
         }
@@ -403,6 +415,9 @@ fn closest_on_simplex(s: &[Corner], with: Option<usize>) -> Option<(Vec3, u32, [
             point += s[i].w * lambda[j];
         }
         let d = point.length_squared();
+        if (0..n).all(|j| mask & (1 << j) != 0 || point.dot(s[j].w - point) >= 0.0) {
+            return Some((point, mask, weights));
+        }
         if best.is_none_or(|b| d < b.0) {
             best = Some((d, point, mask, weights));
         }
