@@ -295,6 +295,7 @@ impl Grid {
 impl GaussMap {
     /// The corner of `vertices` (body frame) farthest along `d`, climbed from `start` (module
     /// docs).
+    #[inline]
     fn support(&self, vertices: &[Vec3], d: Vec3, start: u32) -> u32 {
         let mut v = start as usize;
         let mut best = d.dot(vertices[v]);
