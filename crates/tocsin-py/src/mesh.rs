@@ -161,6 +161,18 @@ impl Mesh {
         self.inner.bounding_radius()
     }
 
+    /// Whether the mesh is a closed convex polytope (to 1e-12 of its size; no degenerate
+    /// triangle). Two such meshes take the GJK path of distance, within_distance and
+    /// time_of_contact (certified against a triangle pair, the same answers). The test runs on
+    /// first use and is kept (about the cost of building the mesh); the queries run it
+    /// themselves only on meshes of at most 4,096 vertices, so reading this property once lets
+    /// a larger convex mesh take the path too.
+    #[getter]
+    fn is_convex(&self, py: Python<'_>) -> bool {
+        let inner = &self.inner;
+        py.detach(|| inner.is_convex())
+    }
+
     /// A copy of the (N, 3) vertex coordinates, body frame.
     #[getter]
     fn vertices<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {

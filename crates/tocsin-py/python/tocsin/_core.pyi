@@ -94,6 +94,14 @@ class Mesh:
     def bounding_radius(self) -> float:
         """Radius of a ball containing the mesh (model units)."""
     @property
+    def is_convex(self) -> bool:
+        """Whether the mesh is a closed convex polytope (to 1e-12 of its size; no degenerate
+        triangle). Two such meshes take the GJK path of distance, within_distance and
+        time_of_contact (certified against a triangle pair, the same answers). The test runs on
+        first use and is kept (about the cost of building the mesh); the queries run it
+        themselves only on meshes of at most 4,096 vertices, so reading this property once lets
+        a larger convex mesh take the path too."""
+    @property
     def vertices(self) -> npt.NDArray[np.float64]:
         """A copy of the (N, 3) vertex coordinates, body frame."""
     @property
