@@ -649,6 +649,27 @@ mod tests {
         assert!(gjk(&grid, &id, &cube, &quarter).is_some());
     }
 
+    /// Meshes above [`GJK_MAX_VERTICES`] corners are not tested for convexity by the queries,
+    /// but take the path once tested ([`TriMesh::is_convex`]).
+    #[test]
+    fn large_meshes_once_tested() {
+        let big = mesh::sphere(1.0, 64, 128).expect("sphere");
+        assert!(big.num_vertices() > GJK_MAX_VERTICES);
+        assert!(polytopes(&big, &big).is_none());
+        assert!(big.is_convex());
+        assert!(polytopes(&big, &big).is_some());
+        let far = Pose::from_axis_angle(Vec3::X, 0.4, Vec3::new(2.5, 0.3, 0.0));
+        let fast = distance(
+            &big,
+            &Pose::IDENTITY,
+            &big,
+            &far,
+            &DistanceOptions::default(),
+        );
+        let slow = searched(&big, &Pose::IDENTITY, &big, &far);
+        assert!((fast.expect("ok").distance - slow.distance).abs() < 1e-14);
+    }
+
     /// At 1e-9 and 1e9 of the unit size, and 1e9 away from the origin, the answer is the
     /// hierarchy's to rounding of those coordinates.
     #[test]
