@@ -445,6 +445,38 @@ impl<'a> StepSearch<'a> {
         self.convex.as_ref().map(Gjk::warm).unwrap_or_default()
     }
 
+    /// The iteration of two convex polytopes ([`Self::convex_step`]), or `None` where the
+    /// traversal must run. Far from contact (the slab across `v`'s direction wider than
+    /// `delta`, and than `delta / 2` by more than rounding, after the rounding allowance), no
+    /// triangle pair can be within `delta`: the
+    /// step comes from that slab, without the witness pair's search, the `distance` reported
+    /// being the slab's width (a lower bound) and the pair one at GJK's last supports.
+    fn convex_iteration(&mut self) -> Option<StepOutcome> {
+        let (rot12, trans12) = (self.rot12, self.trans12);
+        let g = self.convex.as_mut()?;
+        let ended = g.run(&rot12, trans12)?;
+        let (gap, normal) = ended.coarse();
+        let rounding = gjk::ROUNDING * ended.scale;
+        // Near `delta` (or within rounding of `delta / 2`, where a tolerance of 1e-300 would
+        // shrink the steps forever) the certified separation decides.
+        if gap - rounding <= self.delta || gap - rounding - 0.5 * self.delta <= rounding {
+            let s = g.certify(&ended, &rot12, trans12)?;
+            return self.convex_step(&s);
+        }
+        let near = g.near_leaves(&ended);
+        let (a, b) = (&self.bvh1.nodes()[0], &self.bvh2.nodes()[0]);
+        let (s1, s2) = (
+            PointSet::node(a, self.motion1),
+            PointSet::node(b, self.motion2),
+        );
+        let step = self.step(gap - rounding, normal, &s1, &s2);
+        (step > 0.0).then(|| StepOutcome::Step {
+            dt: step.min(self.window),
+            pair: (step < self.window).then_some(near),
+            distance: gap,
+        })
+    }
+
     /// The iteration's outcome from the separation of two convex solids, without a traversal
     /// (`None` where the traversal must decide: the gap is within rounding of `delta / 2`
     /// while the witness pair is not within `delta`). The slab between the solids, of width at least
@@ -520,11 +552,7 @@ impl<'a> StepSearch<'a> {
         self.pruned = f64::INFINITY;
         self.best_pair = None;
         self.closest = f64::INFINITY;
-        let separation = self
-            .convex
-            .as_mut()
-            .and_then(|g| g.separation(&self.rot12, self.trans12));
-        if let Some(out) = separation.and_then(|s| self.convex_step(&s)) {
+        if let Some(out) = self.convex_iteration() {
             return out;
         }
         if let Some((l1, l2)) = warm {

@@ -104,6 +104,29 @@ pub(crate) struct WarmSimplex {
     size: u8,
 }
 
+/// Where GJK ended: its last simplex (corners and weights), `v` (the simplex's nearest point to
+/// the origin) and `v.w` for the last support `w` along `-v`.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Ended {
+    corners: [Corner; 3],
+    weights: [f64; 3],
+    size: usize,
+    v: Vec3,
+    vw: f64,
+    /// The size the rounding is measured against (radii plus the distance apart).
+    pub scale: f64,
+}
+
+impl Ended {
+    /// The slab's width across `v`'s direction and the unit normal from body 1 to body 2: a
+    /// lower bound of the distance (every `c` of C has `v.c >= v.w`), exact to the rounding of
+    /// a dot product, though less tight than [`Gjk::certify`]'s near contact.
+    pub(crate) fn coarse(&self) -> (f64, Vec3) {
+        let len = self.v.length();
+        (self.vw / len, -self.v / len)
+    }
+}
+
 /// A corner of a GJK simplex: the point of `C` and the two mesh corners giving it.
 #[derive(Clone, Copy, Debug)]
 struct Corner {
@@ -189,6 +212,43 @@ impl<'a> Gjk<'a> {
     /// frame, or `None` when they overlap (or GJK stalls: module docs). The caller checks
     /// [`Separation::certifies`] before taking the pair as the distance.
     pub(crate) fn separation(&mut self, rot12: &Mat3, trans12: Vec3) -> Option<Separation> {
+        let ended = self.run(rot12, trans12)?;
+        self.certify(&ended, rot12, trans12)
+    }
+
+    /// The full separation from where GJK ended: the gap across the simplex's accurate
+    /// direction (`v`'s loses accuracy as `|v|` shrinks, being a small difference of large
+    /// coordinates: at a gap of 1e-6 of the size, 1e-10 of it), and the witness pair.
+    pub(crate) fn certify(
+        &mut self,
+        ended: &Ended,
+        rot12: &Mat3,
+        trans12: Vec3,
+    ) -> Option<Separation> {
+        let simplex = &ended.corners[..ended.size];
+        let u = self.accurate_direction(simplex, ended.v);
+        let w = self.support(-u, rot12, trans12)?;
+        Some(self.finish(
+            (rot12, trans12),
+            simplex,
+            &ended.weights[..ended.size],
+            (u, u.dot(w.w)),
+            ended.scale,
+        ))
+    }
+
+    /// A triangle pair (leaf positions) at GJK's last supports: near the closest features,
+    /// for a warm start, without the witness search.
+    pub(crate) fn near_leaves(&self, ended: &Ended) -> (u32, u32) {
+        let c = &ended.corners[0];
+        (
+            self.poly1.corner_leaves(c.a)[0],
+            self.poly2.corner_leaves(c.b)[0],
+        )
+    }
+
+    /// GJK itself: where it ended, or `None` when the solids overlap or it stalls.
+    pub(crate) fn run(&mut self, rot12: &Mat3, trans12: Vec3) -> Option<Ended> {
         let (r1, r2) = (self.mesh1.bounding_radius(), self.mesh2.bounding_radius());
         let centre2 = *rot12 * self.mesh2.bvh().root().center + trans12;
         let scale = r1 + r2 + (centre2 - self.mesh1.bvh().root().center).length();
@@ -249,20 +309,18 @@ impl<'a> Gjk<'a> {
                     ids,
                     size: size as u8,
                 };
-                // The gap across `v`'s direction loses accuracy as `|v|` shrinks (`v` is a
-                // small difference of large coordinates: at a gap of 1e-6 of the size, 1e-10
-                // of it): the direction is rebuilt from the simplex (`accurate_direction`) and
-                // the gap taken across it.
-                let u = self.accurate_direction(&simplex[..size], v);
-                let w = self.support(-u, rot12, trans12)?;
-                let (u, gap) = (u, u.dot(w.w));
-                return Some(self.finish(
-                    (rot12, trans12),
-                    &simplex[..size],
-                    &weights[..size],
-                    (u, gap),
+                let mut corners = [first; 3];
+                corners[..size].copy_from_slice(&simplex[..size]);
+                let mut lambda = [0.0; 3];
+                lambda[..size].copy_from_slice(&weights[..size]);
+                return Some(Ended {
+                    corners,
+                    weights: lambda,
+                    size,
+                    v,
+                    vw,
                     scale,
-                ));
+                });
             }
             simplex[size] = w;
             size += 1;
