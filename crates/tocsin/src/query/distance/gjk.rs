@@ -129,10 +129,13 @@ impl Ended {
 
 /// A corner of a GJK simplex: the point of `C` and the two mesh corners giving it.
 #[derive(Clone, Copy, Debug)]
-struct Corner {
-    w: Vec3,
-    a: u32,
-    b: u32,
+pub(crate) struct Corner {
+    /// The point of `C = A - B` (mesh 1's frame).
+    pub w: Vec3,
+    /// Mesh 1's corner.
+    pub a: u32,
+    /// Mesh 2's corner.
+    pub b: u32,
 }
 
 /// GJK between two convex meshes, keeping where the last supports were found (the next query
@@ -146,6 +149,9 @@ pub(crate) struct Gjk<'a> {
     starts: (u32, u32),
     /// The last query's final simplex, the next one's start.
     last: WarmSimplex,
+    /// Where the last query found the solids overlapping: a tetrahedron of C holding the
+    /// origin (the penetration depth's start).
+    inside: Option<[Corner; 4]>,
 }
 
 impl<'a> Gjk<'a> {
@@ -186,6 +192,7 @@ impl<'a> Gjk<'a> {
             poly2,
             starts,
             last,
+            inside: None,
         }
     }
 
@@ -194,10 +201,16 @@ impl<'a> Gjk<'a> {
         self.last
     }
 
+    /// The tetrahedron of C holding the origin where the last query found the solids
+    /// overlapping.
+    pub(crate) fn tetrahedron(&self) -> Option<[Corner; 4]> {
+        self.inside
+    }
+
     /// The support corner of `C = A - B` along `d` (mesh 1's frame), mesh 2 placed by
     /// `(rot12, trans12)`.
     #[inline]
-    fn support(&mut self, d: Vec3, rot12: &Mat3, trans12: Vec3) -> Option<Corner> {
+    pub(crate) fn support(&mut self, d: Vec3, rot12: &Mat3, trans12: Vec3) -> Option<Corner> {
         let (v1, v2) = (self.mesh1.vertices(), self.mesh2.vertices());
         let a = self.poly1.climb(v1, d, self.starts.0)?;
         let b = self
@@ -249,6 +262,7 @@ impl<'a> Gjk<'a> {
 
     /// GJK itself: where it ended, or `None` when the solids overlap or it stalls.
     pub(crate) fn run(&mut self, rot12: &Mat3, trans12: Vec3) -> Option<Ended> {
+        self.inside = None;
         let (r1, r2) = (self.mesh1.bounding_radius(), self.mesh2.bounding_radius());
         let centre2 = *rot12 * self.mesh2.bvh().root().center + trans12;
         let scale = r1 + r2 + (centre2 - self.mesh1.bvh().root().center).length();
@@ -338,6 +352,7 @@ impl<'a> Gjk<'a> {
             if size == 4 {
                 // The origin is inside the tetrahedron: the solids overlap.
                 self.last = WarmSimplex::default();
+                self.inside = Some(next);
                 return None;
             }
         }

@@ -210,8 +210,9 @@ pub struct PenetrationDepth {
     /// How it ended.
     pub status: DepthStatus,
     /// Whether `depth` is the exact (global) penetration depth: both meshes are convex
-    /// polytopes (closed and convex), answered by the exact path of [`super::convex`]. Then the
-    /// translation is `depth + tolerance / 2` long, so that the bodies end apart.
+    /// polytopes (closed and convex), answered by the exact path of [`super::convex`] (to
+    /// rounding; where EPA's answer is certified first, to 1e-11 of the bodies' size). Then
+    /// the translation is `depth + tolerance / 2` long, so that the bodies end apart.
     pub exact: bool,
 }
 

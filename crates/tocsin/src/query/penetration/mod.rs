@@ -16,6 +16,7 @@
 pub(crate) mod balls;
 pub mod convex;
 pub mod depth;
+pub(crate) mod epa;
 pub mod hausdorff;
 pub mod pointwise;
 pub(crate) mod surface;
