@@ -1,6 +1,7 @@
 //! Times of contact and distances between two convex polytopes (UV spheres of 1,000 and 4,000
 //! triangles stretched into ellipsoids), for profiling the GJK path: `profile_convex [N]`
-//! passes of every motion kind, each followed by the distance at its start.
+//! passes of every motion kind (or only `profile_convex N translation|interp|screw`), each
+//! followed by the distance at its start.
 use tocsin::{
     distance, mesh, time_of_contact, ContactOptions, DistanceOptions, Motion, Pose, Vec3,
 };
@@ -23,6 +24,7 @@ fn main() {
         .nth(1)
         .and_then(|a| a.parse().ok())
         .unwrap_or(2000);
+    let only = std::env::args().nth(2);
     let still = Motion::stationary(Pose::IDENTITY);
     let (mut contacts, mut iterations) = (0, 0);
     let t0 = std::time::Instant::now();
@@ -41,7 +43,21 @@ fn main() {
             },
             translation: turned.translation,
         };
-        let motion = match k % 3 {
+        let kind = match only.as_deref() {
+            Some("translation") => 0,
+            Some("interp") => 1,
+            Some("screw") => 2,
+            _ => k % 3,
+        };
+        let end = if kind == 0 {
+            Pose {
+                rotation: start.rotation,
+                ..end
+            }
+        } else {
+            end
+        };
+        let motion = match kind {
             0 => Motion::translation(start, end),
             1 => Motion::interp(start, end, Vec3::ZERO),
             _ => Motion::screw(start, end),

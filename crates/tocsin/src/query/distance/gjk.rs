@@ -262,6 +262,19 @@ impl<'a> Gjk<'a> {
 
     /// GJK itself: where it ended, or `None` when the solids overlap or it stalls.
     pub(crate) fn run(&mut self, rot12: &Mat3, trans12: Vec3) -> Option<Ended> {
+        self.run_to(rot12, trans12, 0.0, f64::INFINITY)
+    }
+
+    /// [`Self::run`], ending as soon as the gap `v.w / |v|` is at least `floor` and within
+    /// `rel` of `|v|` (a lower bound of the distance within that fraction of an upper bound:
+    /// what a step far from contact needs), or when it has converged.
+    pub(crate) fn run_to(
+        &mut self,
+        rot12: &Mat3,
+        trans12: Vec3,
+        rel: f64,
+        floor: f64,
+    ) -> Option<Ended> {
         self.inside = None;
         let (r1, r2) = (self.mesh1.bounding_radius(), self.mesh2.bounding_radius());
         let centre2 = *rot12 * self.mesh2.bvh().root().center + trans12;
@@ -314,7 +327,8 @@ impl<'a> Gjk<'a> {
             let repeated = simplex[..size].iter().any(|c| c.a == w.a && c.b == w.b);
             let stalled = vv >= last;
             last = vv;
-            if repeated || stalled || vv - vw <= 1e-14 * scale * vv.sqrt() {
+            let close = vv - vw <= rel * vv && vw >= floor * vv.sqrt();
+            if close || repeated || stalled || vv - vw <= 1e-14 * scale * vv.sqrt() {
                 let mut ids = [(0, 0); 3];
                 for (slot, c) in ids.iter_mut().zip(&simplex[..size]) {
                     *slot = (c.a, c.b);
