@@ -53,7 +53,7 @@ use crate::error::{ContactError, OptionsError};
 use crate::math::Vec3;
 use crate::motion::Motion;
 use crate::query::distance::{
-    distance_triangle_triangle, search_distance, DistanceCache, DistanceOptions,
+    distance_triangle_triangle, search_distance, DistanceCache, DistanceOptions, DistanceResult,
 };
 use crate::robot::chain::ChainPath;
 use crate::{Pose, TriMesh};
@@ -396,6 +396,7 @@ fn cast_translation(
     Some(Some(Ends {
         time: hit.time,
         within: Some(hit.pair),
+        closest: None,
         earlier: (hit.time > 0.0).then_some(0.0),
         resolution: NORMAL_RESOLUTION * scale,
         iterations: 1,
@@ -462,6 +463,7 @@ pub(crate) fn advance_paths(
             probe::Probed::Collides(time) => Some(Ends {
                 time,
                 within: None,
+                closest: None,
                 earlier: None,
                 resolution: span.resolution,
                 iterations: 0,
@@ -490,6 +492,7 @@ fn advance_core<const PROBING: bool>(
         return Ok(Probed::Advanced(Some(Ends {
             time: span.start,
             within: None,
+            closest: None,
             earlier: None,
             resolution,
             iterations: 0,
@@ -514,11 +517,12 @@ fn advance_core<const PROBING: bool>(
         let out = search.run(t, window.min(span.end - t), slack, cache.pair);
         cache.simplex = search.warm_simplex();
         match out {
-            StepOutcome::Within { pair } => {
+            StepOutcome::Within { pair, closest } => {
                 cache.pair = Some(pair);
                 return Ok(Probed::Advanced(Some(Ends {
                     time: t,
                     within: Some(pair),
+                    closest,
                     earlier,
                     resolution,
                     iterations: iteration,
@@ -641,6 +645,10 @@ pub(crate) struct Ends {
     /// The leaf pair found within the tolerance at `time`, which ended the advancement (`None`
     /// at a start in contact or a probe's collision).
     within: Option<(u32, u32)>,
+    /// That pair's closest points (mesh 1's frame) where the advancement certified them as
+    /// the meshes' exact distance (two convex polytopes: [`crate::query::distance::gjk`]), so
+    /// that the witnesses need no distance query.
+    closest: Option<crate::query::distance::TrianglePairDistance>,
     earlier: Option<f64>,
     pub resolution: f64,
     pub iterations: usize,
@@ -680,7 +688,22 @@ pub(crate) fn finish(
         (cache.pair, cache.simplex) = (dcache.pair, dcache.simplex);
         (d, p1, p2)
     };
-    let (d, p1, p2) = closest(ends.time, cache);
+    let (d, p1, p2) = match (ends.closest, ends.within) {
+        // Certified by the advancement as the meshes' distance: no query.
+        (Some(e), Some((l1, l2))) if ends.status == ContactStatus::Converged => {
+            let (p1, p2) = (motion1.pose_at(ends.time), motion2.pose_at(ends.time));
+            let d = DistanceResult {
+                distance: e.distance,
+                point1: p1.transform_point(e.point1),
+                point2: p1.transform_point(e.point2),
+                triangle1: mesh1.bvh().triangle_index(l1),
+                triangle2: mesh2.bvh().triangle_index(l2),
+            };
+            cache.pair = Some((l1, l2));
+            (d, p1, p2)
+        }
+        _ => closest(ends.time, cache),
+    };
     let resolution = ends.resolution;
     let normal = if d.distance > resolution {
         pair_direction(mesh1, &p1, mesh2, &p2, cache.pair, &d)

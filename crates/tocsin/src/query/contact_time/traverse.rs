@@ -16,8 +16,8 @@ use crate::bvh::{
 };
 use crate::math::{Mat3, Pose, Vec3};
 use crate::motion::{Motion, Spread};
-use crate::query::distance::distance_triangle_triangle;
 use crate::query::distance::gjk::{self, Gjk, Separation, WarmSimplex};
+use crate::query::distance::{distance_triangle_triangle, TrianglePairDistance};
 use crate::robot::chain::ChainKinematics;
 use crate::TriMesh;
 
@@ -35,8 +35,13 @@ const CONVEX_STEP_REL: f64 = 0.1;
 
 /// What one iteration found.
 pub(crate) enum StepOutcome {
-    /// A triangle pair (leaf positions) is within the tolerance at the current time.
-    Within { pair: (u32, u32) },
+    /// A triangle pair (leaf positions) is within the tolerance at the current time; with the
+    /// meshes' exact distance there when the iteration already certified it (two convex
+    /// polytopes: that pair's closest points, mesh 1's frame).
+    Within {
+        pair: (u32, u32),
+        closest: Option<TrianglePairDistance>,
+    },
     /// A safe step, the triangle pair that limited it (if any) and the smallest triangle-pair
     /// distance seen (an upper bound of the meshes' distance; infinite if none was evaluated).
     Step {
@@ -496,7 +501,10 @@ impl<'a> StepSearch<'a> {
     fn convex_step(&mut self, s: &Separation) -> Option<StepOutcome> {
         self.closest = s.pair.distance;
         if s.pair.distance <= self.delta {
-            return Some(StepOutcome::Within { pair: s.leaves });
+            return Some(StepOutcome::Within {
+                pair: s.leaves,
+                closest: s.certifies(0.0).then_some(s.pair),
+            });
         }
         let (a, b) = (&self.bvh1.nodes()[0], &self.bvh2.nodes()[0]);
         let (s1, s2) = (
@@ -568,7 +576,10 @@ impl<'a> StepSearch<'a> {
                 && (l2 as usize) < self.bvh2.leaf_triangles().len()
                 && self.leaf_pair(l1, l2)
             {
-                return StepOutcome::Within { pair: (l1, l2) };
+                return StepOutcome::Within {
+                    pair: (l1, l2),
+                    closest: None,
+                };
             }
         }
         if self.shells.is_some() && !self.shells_on && t == 0.0 {
@@ -591,6 +602,7 @@ impl<'a> StepSearch<'a> {
                 if self.leaf_pair(a.leaf_position(), b.leaf_position()) {
                     return StepOutcome::Within {
                         pair: (a.leaf_position(), b.leaf_position()),
+                        closest: None,
                     };
                 }
                 continue;
