@@ -26,6 +26,15 @@
 //!   shrink towards rounding in resting contact; farther points are speculative contacts;
 //!   Coulomb friction with coefficient [`FRICTION`] clamps each point's tangential impulse to
 //!   `mu` times its normal one;
+//! - a body rocking on an edge stops turning: a one-point manifold (an edge on a face, no corner
+//!   within [`MANIFOLD`]) pushes at one point, the body turns about it and another point of the
+//!   edge comes down, and the separating check with half the distance finds it again, closer
+//!   each time, down to [`MIN_GAP`], where the step could only freeze. A contact on a one- or
+//!   two-point manifold closer than [`ROCKING`] of the tolerance (no contact is reported that
+//!   close: it is such a return) sets both bodies' angular velocities to zero before its
+//!   impulses (`spins_stopped` in the JSON). Until the thirty-ninth session the continuous
+//!   queries of such pairs mostly reached their iteration cap first, and the capped query
+//!   stopped the bodies for the piece instead; two convex polytopes' queries now answer them;
 //! - after [`MAX_EVENTS`] contacts in one step, the rest of that step is skipped (bodies keep
 //!   their velocities but do not move: never unsafe), and the step is counted as frozen.
 //!
@@ -69,6 +78,9 @@ pub const RESTORE: f64 = 2e-3;
 pub const MAX_EVENTS: usize = 400;
 /// Largest turn of a body in one piece of a step, radians.
 pub const MAX_TURN: f64 = 3.0;
+/// A contact closer than this fraction of the tolerance on a one-point manifold is a body
+/// rocking on an edge (module docs).
+pub const ROCKING: f64 = 0.25;
 /// Corners of a box within this of the other box join a contact's manifold, metres.
 pub const MANIFOLD: f64 = 5e-3;
 /// Plate thickness, metres.
@@ -410,6 +422,8 @@ fn world_error(e: impl std::fmt::Display) -> String {
 struct Tally {
     events: usize,
     frozen_steps: usize,
+    /// Bodies whose spin was stopped while rocking on an edge (module docs).
+    spins_stopped: usize,
     /// Pair queries that reached their iteration cap (the piece then stops where they did).
     capped: usize,
     intersections: usize,
@@ -503,6 +517,7 @@ pub fn run(args: &RainArgs) -> Result<Value, String> {
         "intersecting_pairs": tally.intersections,
         "contacts_resolved": tally.events,
         "frozen_steps": tally.frozen_steps,
+        "spins_stopped": tally.spins_stopped,
         "capped_queries": tally.capped,
         "in_bin": in_bin,
         "ms_per_step": {
@@ -634,6 +649,17 @@ fn step_once(
             let (a, b) = (boxes(bodies, c.body1), boxes(bodies, c.body2));
             let points = manifold(a, b, c.contact.normal, witness(c));
             let pair = (c.body1.checked_sub(first), c.body2.checked_sub(first));
+            if c.contact.distance < ROCKING * TOLERANCE && points.len() <= 2 {
+                // Closer than a contact is ever reported, on a one-point manifold: the pair
+                // came back after its impulses (module docs); its bodies stop turning.
+                for k in pair.0.into_iter().chain(pair.1) {
+                    if bodies[k].w != Vec3::ZERO {
+                        bodies[k].w = Vec3::ZERO;
+                        moved.push(k);
+                        tally.spins_stopped += 1;
+                    }
+                }
+            }
             if resolve(bodies, pair, &points, c.contact.normal, DT - now) {
                 moved.extend(pair.0.into_iter().chain(pair.1));
             }
