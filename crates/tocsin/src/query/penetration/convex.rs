@@ -97,6 +97,9 @@ pub const MAX_WORK: usize = 50_000_000;
 /// comes first, 0.25 ms: [`super::epa`]).
 pub const MAX_TESTS: usize = 10_000_000;
 
+/// A mesh, its polytope and its pose (world).
+pub(crate) type Placed<'a> = (&'a TriMesh, &'a Polytope, &'a Pose);
+
 /// Pairs of meshes with at most this many corners each skip EPA's certified answer
 /// ([`super::epa`]) for the candidates.
 const EPA_MIN_VERTICES: usize = 8;
@@ -592,22 +595,18 @@ pub(crate) fn exact_depth(
     // EPA's 5; docs/BENCHMARKS.md, thirty-ninth session).
     let small = a.num_vertices() <= EPA_MIN_VERTICES && b.num_vertices() <= EPA_MIN_VERTICES;
     if !small && pa.climbs() && pb.climbs() {
-        if let Some(found) = super::epa::depth(a, pa, pose_a, b, pb, pose_b) {
+        if let Some(found) = super::epa::depth((a, pa, pose_a), (b, pb, pose_b)) {
             return Some(found);
         }
     }
-    exact_depth_without_epa(a, pa, pose_a, b, pb, pose_b)
+    exact_depth_without_epa((a, pa, pose_a), (b, pb, pose_b))
 }
 
 /// [`exact_depth`] by the candidates alone, without EPA's certified answer first (the oracle of
 /// EPA's tests).
 pub(crate) fn exact_depth_without_epa(
-    a: &TriMesh,
-    pa: &Polytope,
-    pose_a: &Pose,
-    b: &TriMesh,
-    pb: &Polytope,
-    pose_b: &Pose,
+    (a, pa, pose_a): Placed<'_>,
+    (b, pb, pose_b): Placed<'_>,
 ) -> Option<(f64, Vec3, Vec3, Vec3)> {
     match (&pa.gauss, &pb.gauss) {
         (Some(ga), Some(gb)) => gauss_depth(a, ga, pose_a, b, gb, pose_b),
@@ -754,8 +753,8 @@ fn gauss_depth(
 /// overlap by loops over every corner: for meshes without a Gauss map, and the oracle of the
 /// tests.
 fn every_pair_depth(
-    (a, pa, pose_a): (&TriMesh, &Polytope, &Pose),
-    (b, pb, pose_b): (&TriMesh, &Polytope, &Pose),
+    (a, pa, pose_a): Placed<'_>,
+    (b, pb, pose_b): Placed<'_>,
 ) -> Option<(f64, Vec3, Vec3, Vec3)> {
     let candidates = pa.normals.len() + pb.normals.len() + pa.edges.len() * pb.edges.len();
     if candidates.saturating_mul(a.num_vertices() + b.num_vertices()) > MAX_WORK {
@@ -940,7 +939,8 @@ pub(crate) mod tests {
                 translation: unit(&mut rng) * reach,
                 ..rotation(&mut rng, aligned)
             };
-            let fast = exact_depth_without_epa(&a, pa, &pose_a, &b, pb, &pose_b).expect("small");
+            let fast =
+                exact_depth_without_epa((&a, pa, &pose_a), (&b, pb, &pose_b)).expect("small");
             let slow = exact_depth(&a, &all_pairs(pa), &pose_a, &b, &all_pairs(pb), &pose_b)
                 .expect("small");
             assert_eq!(
@@ -1082,7 +1082,7 @@ pub(crate) mod tests {
                 translation: unit(&mut rng) * 0.8,
                 ..rotation(&mut rng, case % 2 == 0)
             };
-            let fast = exact_depth_without_epa(&small, p, &Pose::IDENTITY, &small, p, &pose_b)
+            let fast = exact_depth_without_epa((&small, p, &Pose::IDENTITY), (&small, p, &pose_b))
                 .expect("small");
             let (every, at) = (all_pairs(p), Pose::IDENTITY);
             let slow = exact_depth(&small, &every, &at, &small, &every, &pose_b).expect("small");

@@ -21,11 +21,10 @@
 //! they are not (a flat or degenerate simplex, rounding that broke the hull, the iteration cap)
 //! the exact path answers.
 
-use crate::math::{Mat3, Pose, Vec3};
+use crate::math::{Mat3, Vec3};
 use crate::query::distance::gjk::{Corner, Gjk};
-use crate::TriMesh;
 
-use super::convex::Polytope;
+use super::convex::Placed;
 
 /// The certificate's allowance for rounding, a fraction of the size (radii plus the distance
 /// between the centres).
@@ -61,12 +60,8 @@ impl Face {
 /// escape, `a`'s support point, `b`'s support point, world frame), or `None` where the solids
 /// do not overlap or the certificate fails (the exact path then answers).
 pub(crate) fn depth(
-    a: &TriMesh,
-    pa: &Polytope,
-    pose_a: &Pose,
-    b: &TriMesh,
-    pb: &Polytope,
-    pose_b: &Pose,
+    (a, pa, pose_a): Placed<'_>,
+    (b, pb, pose_b): Placed<'_>,
 ) -> Option<(f64, Vec3, Vec3, Vec3)> {
     let pos = pose_a.inv_mul(pose_b);
     let (rot, trans) = (pos.rotation, pos.translation);
@@ -214,6 +209,7 @@ fn certify(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::math::Pose;
     use crate::motion::sampling::unit;
     use crate::query::penetration::convex::tests::{random_convex, rotation};
     use rand::{Rng, SeedableRng};
@@ -238,7 +234,7 @@ mod tests {
             let reach = a.bounding_radius() + b.bounding_radius();
             pose_b.translation = unit(&mut rng) * reach * rng.random_range(0.0..0.5);
             let Some(exact) =
-                super::super::convex::exact_depth_without_epa(&a, pa, &pose_a, &b, pb, &pose_b)
+                super::super::convex::exact_depth_without_epa((&a, pa, &pose_a), (&b, pb, &pose_b))
             else {
                 continue;
             };
@@ -248,7 +244,7 @@ mod tests {
             overlapping += 1;
             let kind = usize::from(case % 3 == 0);
             by_kind[kind].0 += 1;
-            let Some(fast) = depth(&a, pa, &pose_a, &b, pb, &pose_b) else {
+            let Some(fast) = depth((&a, pa, &pose_a), (&b, pb, &pose_b)) else {
                 continue;
             };
             answered += 1;
@@ -278,10 +274,12 @@ mod tests {
         let coarse = prism(500);
         let pc = coarse.convex_polytope().expect("convex");
         let id = Pose::IDENTITY;
-        let fast = depth(&coarse, pc, &id, &coarse, pc, &turned).expect("EPA answers");
-        let exact =
-            super::super::convex::exact_depth_without_epa(&coarse, pc, &id, &coarse, pc, &turned)
-                .expect("the candidates answer");
+        let fast = depth((&coarse, pc, &id), (&coarse, pc, &turned)).expect("EPA answers");
+        let exact = super::super::convex::exact_depth_without_epa(
+            (&coarse, pc, &id),
+            (&coarse, pc, &turned),
+        )
+        .expect("the candidates answer");
         assert!(
             (fast.0 - exact.0).abs() <= 1e-12,
             "{} against {}",
@@ -290,7 +288,7 @@ mod tests {
         );
         let fine = prism(5000);
         let pf = fine.convex_polytope().expect("convex");
-        let d = depth(&fine, pf, &id, &fine, pf, &turned).expect("EPA answers");
+        let d = depth((&fine, pf, &id), (&fine, pf, &turned)).expect("EPA answers");
         assert!((d.0 - exact.0).abs() < 1e-3, "{} against {}", d.0, exact.0);
     }
 }
