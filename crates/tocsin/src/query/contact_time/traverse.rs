@@ -460,9 +460,9 @@ impl<'a> StepSearch<'a> {
     /// The iteration of two convex polytopes ([`Self::convex_step`]), or `None` where the
     /// traversal must run. Far from contact (the slab across `v`'s direction wider than
     /// `delta`, and than `delta / 2` by more than rounding, after the rounding allowance), no
-    /// triangle pair can be within `delta`: the
-    /// step comes from that slab, without the witness pair's search, the `distance` reported
-    /// being the slab's width (a lower bound) and the pair one at GJK's last supports.
+    /// triangle pair can be within `delta`: the step comes from that slab, without the witness
+    /// pair's search, the `distance` reported being the slab's width (a lower bound) and the
+    /// pair one at GJK's last supports.
     fn convex_iteration(&mut self) -> Option<StepOutcome> {
         let (rot12, trans12) = (self.rot12, self.trans12);
         let g = self.convex.as_mut()?;
@@ -492,12 +492,12 @@ impl<'a> StepSearch<'a> {
 
     /// The iteration's outcome from the separation of two convex solids, without a traversal
     /// (`None` where the traversal must decide: the gap is within rounding of `delta / 2`
-    /// while the witness pair is not within `delta`). The slab between the solids, of width at least
-    /// [`Separation::safe_gap`] across `normal`, is a gap between all of body 1's points and
-    /// all of body 2's: the step it certifies with the roots' motion bounds is safe for every
-    /// triangle pair, as a node pair's gap is for the pairs below it. The witness pair's
-    /// distance is a triangle pair's, so within `delta` it ends the advancement as any pair
-    /// would.
+    /// while the witness pair is not within `delta`). The slab between the solids, of width
+    /// at least [`Separation::safe_gap`] across `normal`, is a gap between all of body 1's
+    /// points and all of body 2's: the step it certifies with the roots' motion bounds is safe
+    /// for every triangle pair, as a node pair's gap is for the pairs below it. The witness
+    /// pair's distance is a triangle pair's, so within `delta` it ends the advancement as any
+    /// pair would.
     fn convex_step(&mut self, s: &Separation) -> Option<StepOutcome> {
         self.closest = s.pair.distance;
         if s.pair.distance <= self.delta {

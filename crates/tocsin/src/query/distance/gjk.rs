@@ -17,7 +17,11 @@
 //! exact distance `d` ([`distance_triangle_triangle`]) is one triangle pair's, so it bounds the
 //! meshes' distance from above. The answer is that pair when `d - L` is within the allowed
 //! error (for an exact query [`ROUNDING`] of the coordinates' size): the distance the
-//! hierarchy would return, to that. Otherwise (the solids overlap, which the meshes need not:
+//! hierarchy would return, to that. Any unit direction gives such a slab; the one used is
+//! rebuilt from the simplex ([`Gjk::certify`]: a triangle's normal, or `v` without its
+//! component along a segment), since `v` itself is a small difference of large coordinates
+//! near contact, and a gap across its direction was off by 1e-10 of the size at a gap of 1e-6.
+//! Otherwise (the solids overlap, which the meshes need not:
 //! a ball inside a closed socket; a simplex that rounding stalled; a climb that stopped short)
 //! the caller searches the hierarchies as for any soup.
 //!
@@ -27,9 +31,13 @@
 //! mesh's first query and kept; it costs about a build of the hierarchy (28 ms for a sphere of
 //! 16,128 triangles), so meshes above [`GJK_MAX_VERTICES`] corners are not tested for it here.
 //!
-//! The continuous collision's step search uses the same separation ([`Gjk::separation`]): the
-//! slab's width `L` along `n` certifies a step for the two whole bodies, as a node pair's gap
-//! does for its two volumes ([`crate::query::contact_time`]).
+//! The continuous collision's step search uses the same separation: the slab's width along
+//! its normal certifies a step for the two whole bodies, as a node pair's gap does for its two
+//! volumes ([`crate::query::contact_time`]); far from contact the slab across `v` serves
+//! ([`Ended::coarse`]), from a GJK stopped early ([`Gjk::run_to`]). Where the solids overlap,
+//! GJK's tetrahedron holding the origin starts the penetration depth's EPA
+//! ([`crate::query::penetration`]). Meshes already tested (by a penetration depth, or
+//! [`TriMesh::is_convex`]) take the path whatever their size.
 
 use super::{distance_triangle_triangle, TrianglePairDistance};
 use crate::math::{Mat3, Vec3};
@@ -38,8 +46,8 @@ use crate::query::penetration::surface::point_to_mesh;
 use crate::TriMesh;
 
 /// Meshes with more corners than this are not tested for convexity by the distance queries
-/// (the test's cost, module docs); those already tested (by a penetration depth) still take
-/// the GJK path.
+/// (the test's cost, module docs); those already tested (by a penetration depth or
+/// [`TriMesh::is_convex`]) still take the GJK path.
 pub const GJK_MAX_VERTICES: usize = 4096;
 
 /// The certificate's allowance for rounding, a fraction of the coordinates' size (the bodies'

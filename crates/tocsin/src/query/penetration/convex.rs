@@ -10,7 +10,7 @@
 //! exact (to rounding).
 //!
 //! **EPA first.** Where both meshes are convex to 1e-12 of their size and either has more than
-//! [`EPA_MIN_VERTICES`] corners, EPA ([`super::epa`]) answers first when its certificate holds
+//! 8 corners, EPA (`query/penetration/epa.rs`) answers first when its certificate holds
 //! (the depth between a polytope inside the Minkowski difference and a support along its
 //! nearest face's normal, within 1e-11 of the size): it visits only the faces near the deepest
 //! direction, where the candidates below are all bounded. On 470 random overlapping pairs it
@@ -94,7 +94,7 @@ pub const MAX_WORK: usize = 50_000_000;
 /// Most crossing tests the exact path makes with Gauss maps before it gives up for the local
 /// search. Two prisms of 5,000 sides turned across each other spend 26 ms before giving up
 /// (375 ms at 50 million); the local search then takes 185 ms (where EPA's certified answer
-/// comes first, 0.25 ms: [`super::epa`]).
+/// comes first, 0.25 ms: `epa.rs`).
 pub const MAX_TESTS: usize = 10_000_000;
 
 /// A mesh, its polytope and its pose (world).
