@@ -477,17 +477,23 @@ impl<'a> StepSearch<'a> {
             return self.convex_step(&s);
         }
         let near = g.near_leaves(&ended);
-        let (a, b) = (&self.bvh1.nodes()[0], &self.bvh2.nodes()[0]);
-        let (s1, s2) = (
-            PointSet::node(a, self.motion1),
-            PointSet::node(b, self.motion2),
-        );
-        let step = self.step(gap - rounding, normal, &s1, &s2);
+        let step = self.whole_bodies_step(gap - rounding, normal);
         (step > 0.0).then(|| StepOutcome::Step {
             dt: step.min(self.window),
             pair: (step < self.window).then_some(near),
             distance: gap,
         })
+    }
+
+    /// The step certified by a gap `gap` along `n` between the two whole bodies (their roots'
+    /// point sets and motion bounds).
+    fn whole_bodies_step(&self, gap: f64, n: Vec3) -> f64 {
+        let (a, b) = (&self.bvh1.nodes()[0], &self.bvh2.nodes()[0]);
+        let (s1, s2) = (
+            PointSet::node(a, self.motion1),
+            PointSet::node(b, self.motion2),
+        );
+        self.step(gap, n, &s1, &s2)
     }
 
     /// The iteration's outcome from the separation of two convex solids, without a traversal
@@ -506,15 +512,10 @@ impl<'a> StepSearch<'a> {
                 closest: s.certifies(0.0).then_some(s.pair),
             });
         }
-        let (a, b) = (&self.bvh1.nodes()[0], &self.bvh2.nodes()[0]);
-        let (s1, s2) = (
-            PointSet::node(a, self.motion1),
-            PointSet::node(b, self.motion2),
-        );
         // Within rounding of `delta / 2` the steps would shrink without end (a tolerance of
         // 1e-300): the traversal decides there.
         let margin = s.safe_gap() - 0.5 * self.delta;
-        let step = self.step(s.safe_gap(), s.normal, &s1, &s2);
+        let step = self.whole_bodies_step(s.safe_gap(), s.normal);
         if margin <= gjk::ROUNDING * s.scale || step <= 0.0 {
             self.closest = f64::INFINITY;
             return None;

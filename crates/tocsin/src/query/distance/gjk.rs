@@ -247,7 +247,7 @@ impl<'a> Gjk<'a> {
         trans12: Vec3,
     ) -> Option<Separation> {
         let simplex = &ended.corners[..ended.size];
-        let u = self.accurate_direction(simplex, ended.v);
+        let u = Self::accurate_direction(simplex, ended.v);
         let w = self.support(-u, rot12, trans12)?;
         Some(self.finish(
             (rot12, trans12),
@@ -307,16 +307,8 @@ impl<'a> Gjk<'a> {
             for (slot, &ids) in warm.iter_mut().zip(&last_ids[..last_size]) {
                 *slot = corner(ids);
             }
-            if let Some((point, kept, lambda)) = closest_on_simplex(&warm[..last_size], None) {
-                size = 0;
-                for i in 0..last_size {
-                    if kept & (1 << i) != 0 {
-                        simplex[size] = warm[i];
-                        weights[size] = lambda[i];
-                        size += 1;
-                    }
-                }
-                v = point;
+            if let Some(nearest) = closest_on_simplex(&warm[..last_size], None) {
+                (simplex, weights, size, v) = kept(&warm[..last_size], nearest);
             }
         }
         let tiny = 1e-13 * scale;
@@ -360,21 +352,12 @@ impl<'a> Gjk<'a> {
             }
             simplex[size] = w;
             size += 1;
-            let (point, kept, lambda) = closest_on_simplex(&simplex[..size], Some(size - 1))?;
-            let mut next = [first; 4];
-            let mut k = 0;
-            for i in 0..size {
-                if kept & (1 << i) != 0 {
-                    next[k] = simplex[i];
-                    weights[k] = lambda[i];
-                    k += 1;
-                }
-            }
-            (simplex, size, v) = (next, k, point);
+            let nearest = closest_on_simplex(&simplex[..size], Some(size - 1))?;
+            (simplex, weights, size, v) = kept(&simplex[..size], nearest);
             if size == 4 {
                 // The origin is inside the tetrahedron: the solids overlap.
                 self.last = WarmSimplex::default();
-                self.inside = Some(next);
+                self.inside = Some(simplex);
                 return None;
             }
         }
@@ -386,7 +369,7 @@ impl<'a> Gjk<'a> {
     /// of the bodies keeps full accuracy); for a segment (an edge of C), `v`'s direction with
     /// its component along the edge removed, since a tilt along the edge changes the gap to
     /// first order and one about it only to second; `v` itself for a corner.
-    fn accurate_direction(&self, simplex: &[Corner], v: Vec3) -> Vec3 {
+    fn accurate_direction(simplex: &[Corner], v: Vec3) -> Vec3 {
         let u = v.normalize();
         match simplex {
             [a, b, c] => match (b.w - a.w).cross(c.w - a.w).try_normalize() {
@@ -467,6 +450,26 @@ fn holding(
     // A flat face's corners can span a segment or triangle across other triangles of the
     // face: the point's nearest triangle, from the hierarchy.
     point_to_mesh(mesh.bvh(), point, first[0]).2
+}
+
+/// The simplex reduced to the face holding its nearest point (`closest_on_simplex`'s answer:
+/// the point, the face's corners as a bit mask, the weights indexed like `s`): the face's
+/// corners first, their weights, how many, and the point.
+fn kept(
+    s: &[Corner],
+    (point, mask, lambda): (Vec3, u32, [f64; 4]),
+) -> ([Corner; 4], [f64; 4], usize, Vec3) {
+    let mut corners = [s[0]; 4];
+    let mut weights = [0.0; 4];
+    let mut k = 0;
+    for (i, c) in s.iter().enumerate() {
+        if mask & (1 << i) != 0 {
+            corners[k] = *c;
+            weights[k] = lambda[i];
+            k += 1;
+        }
+    }
+    (corners, weights, k, point)
 }
 
 /// The point of the simplex's hull nearest the origin, which corners span the face holding it

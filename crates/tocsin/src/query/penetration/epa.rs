@@ -22,13 +22,9 @@
 //! the exact path answers.
 
 use crate::math::{Mat3, Vec3};
-use crate::query::distance::gjk::{Corner, Gjk};
+use crate::query::distance::gjk::{Corner, Gjk, ROUNDING};
 
 use super::convex::Placed;
-
-/// The certificate's allowance for rounding, a fraction of the size (radii plus the distance
-/// between the centres).
-pub const ROUNDING: f64 = 1e-11;
 
 /// Most EPA iterations (corners added) before the exact path answers instead.
 const MAX_ITERATIONS: usize = 256;
