@@ -111,6 +111,8 @@ fn expand(
         faces.push(f);
     }
     let mut horizon: Vec<(usize, usize)> = Vec::new();
+    // The faces kept by an iteration, swapped with `faces` (one buffer, not one per iteration).
+    let mut kept: Vec<Face> = Vec::with_capacity(64);
     for _ in 0..MAX_ITERATIONS {
         let nearest = faces
             .iter()
@@ -128,7 +130,7 @@ fn expand(
         let k = points.len();
         points.push(w);
         horizon.clear();
-        let mut kept = Vec::with_capacity(faces.len() + 8);
+        kept.clear();
         for g in &faces {
             if g.normal.dot(w.w - points[g.corners[0]].w) > tiny {
                 for e in 0..3 {
@@ -155,7 +157,7 @@ fn expand(
             }
             kept.push(g);
         }
-        faces = kept;
+        std::mem::swap(&mut faces, &mut kept);
     }
     None
 }
