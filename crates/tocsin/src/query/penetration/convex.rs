@@ -15,7 +15,7 @@
 //! nearest face's normal, within 1e-11 of the size): it visits only the faces near the deepest
 //! direction, where the candidates below are all bounded. On 470 random overlapping pairs it
 //! answered every one, equal to the candidates' depth to 1e-12 of the size; 3,000-point hulls
-//! 255 -> 44 us (docs/BENCHMARKS.md, thirty-ninth session).
+//! 255 -> 39 to 44 us (docs/BENCHMARKS.md, thirty-ninth session).
 //!
 //! **Which candidates, found on the Gauss map.** The Gauss map puts each face at its outward
 //! normal on the unit sphere, each edge on the arc between its two faces' normals, and each
