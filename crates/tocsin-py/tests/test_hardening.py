@@ -68,6 +68,25 @@ def test_normal_at_rounding_level_tolerance_is_the_approach_direction():
     assert np.allclose(c.normal, [1, 0, 0], atol=1e-6), c.normal  # was [0, 0, 1]
 
 
+def test_tolerance_below_the_distance_accuracy_is_a_contact_not_a_crawl():
+    # A box a million units wide turning past a small one: with a tolerance of 1e-300 the
+    # steps shrank with the distances' rounding and the query ran into IterationLimitError.
+    # A pair within the distances' accuracy (2e-13 of the scene's scale) now ends it.
+    size = 1e6
+    big, small = tocsin.Mesh.box([0.5 * size] * 3), tocsin.Mesh.box([0.01 * size] * 3)
+    axis = np.array([0.2, 0.3, 1.0]) / np.linalg.norm([0.2, 0.3, 1.0])
+    k = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
+    start, end = np.eye(4), np.eye(4)
+    end[:3, :3] = np.eye(3) + np.sin(np.pi / 3) * k + (1 - np.cos(np.pi / 3)) * k @ k
+    start[:3, 3], end[:3, 3] = [-2 * size, 0.1 * size, 0.05 * size], [2 * size, -0.1 * size, 0]
+    turn, still = tocsin.Motion.screw(start, end), tocsin.Motion.stationary(np.eye(4))
+    c = tocsin.time_of_contact(big, turn, small, still, tolerance=1e-300)
+    scale = big.bounding_radius + small.bounding_radius + np.linalg.norm(end[:3, 3])
+    assert c is not None and c.iterations < 100 and c.distance <= 2e-13 * scale
+    assert not any(tocsin.collide(big, turn.pose_at(t), small, np.eye(4)) for t in np.linspace(0, c.time, 400, endpoint=False))
+    assert not tocsin.motion_is_free(big, turn, small, still, tolerance=1e-300)
+
+
 def test_point_mesh_default_tolerance_and_normal():
     point = tocsin.Mesh(np.zeros((1, 3)), np.zeros((1, 3), dtype=int))
     box = tocsin.Mesh.box([0.5] * 3)

@@ -4,7 +4,7 @@
 
 #![allow(clippy::unwrap_used, clippy::panic)]
 
-use tocsin::query::contact_time::effective_tolerance;
+use tocsin::query::contact_time::{effective_tolerance, DISTANCE_RESOLUTION};
 use tocsin::{mesh, time_of_contact, ContactOptions, Motion, Pose, TriMesh, Vec3};
 
 fn slide(from: Vec3, to: Vec3) -> Motion {
@@ -32,7 +32,9 @@ fn box_face_on_at_rounding_tolerance_gets_the_approach_normal() {
         let c = time_of_contact(&cube, &slide(-3.0 * dir, 3.0 * dir), &cube, &still, &opts)
             .unwrap()
             .unwrap();
-        assert!(c.distance <= tol);
+        // Below the distances' resolution a pair that close ends the advancement.
+        let scale = 2.0 * cube.bounding_radius() + 3.0;
+        assert!(c.distance <= tol.max(DISTANCE_RESOLUTION * scale));
         // Body 1 approaches along `dir`: the normal from body 1 to body 2 is `dir`.
         assert!(
             (c.normal - dir).length() < 1e-6,
@@ -71,4 +73,52 @@ fn a_point_mesh_has_a_real_default_tolerance_and_normal() {
         .unwrap();
     assert!((c.time - 0.5).abs() < 1e-6);
     assert!((c.normal - Vec3::X).length() < 1e-6, "{}", c.normal);
+}
+
+/// A tolerance below what the distances resolve (1e-300, or 1e-16 of the scene) ends where a
+/// triangle pair comes within [`DISTANCE_RESOLUTION`] of the scene scale: a box a million
+/// units wide turning past a small one crawled to the iteration cap before (each step taken
+/// against the rounding of the distances). At every scale the answer is found in a few
+/// iterations, within that distance, with no collision before it (dense samples of `collide`),
+/// and the yes/no query agrees.
+#[test]
+fn a_tolerance_below_the_distance_resolution_ends_at_it() {
+    use tocsin::{collide, motion_is_free};
+    for size in [1.0, 1e3, 1e6] {
+        let big = mesh::box_mesh(Vec3::splat(0.5 * size)).unwrap();
+        let small = mesh::box_mesh(Vec3::splat(0.01 * size)).unwrap();
+        let axis = Vec3::new(0.2, 0.3, 1.0).normalize();
+        let start = Pose::from_axis_angle(axis, 0.0, Vec3::new(-2.0, 0.1, 0.05) * size);
+        let end = Pose::from_axis_angle(axis, 60f64.to_radians(), Vec3::new(2.0, -0.1, 0.0) * size);
+        let turn = Motion::screw(start, end).unwrap();
+        let still = Motion::stationary(Pose::IDENTITY);
+        let scale = big.bounding_radius() + small.bounding_radius() + 2.0 * size * 1.0026;
+        for tol in [1e-300, 1e-16 * size] {
+            let opts = ContactOptions {
+                tolerance: Some(tol),
+                ..Default::default()
+            };
+            assert_eq!(effective_tolerance(&big, &turn, &small, &still, &opts), tol);
+            let c = time_of_contact(&big, &turn, &small, &still, &opts)
+                .unwrap()
+                .unwrap();
+            assert!(
+                c.iterations < 100,
+                "{size} {tol:e}: {} iterations",
+                c.iterations
+            );
+            assert!(
+                c.distance <= DISTANCE_RESOLUTION * scale,
+                "{size} {tol:e}: distance {:e}",
+                c.distance
+            );
+            for k in 0..=2000 {
+                let t = c.time * f64::from(k) / 2000.0;
+                if t < c.time {
+                    assert!(!collide(&big, &turn.pose_at(t), &small, &Pose::IDENTITY));
+                }
+            }
+            assert!(!motion_is_free(&big, &turn, &small, &still, &opts).unwrap());
+        }
+    }
 }

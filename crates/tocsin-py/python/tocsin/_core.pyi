@@ -240,7 +240,9 @@ def time_of_contact(
     [0, 1]. Returns a ContactResult whenever the meshes come within tolerance / 2 of each other
     (always when they collide), None when they stay farther apart than the tolerance, and
     either in between. The tolerance defaults to 1e-3 of the smaller bounding radius (raised
-    for degenerate meshes). Raises IterationLimitError when max_iterations (default 1000) runs
+    for degenerate meshes); below the distances' own accuracy (2e-13 of the scene's scale, radii
+    plus the farthest start or end position) a pair within that accuracy counts as a contact,
+    and the distance returned is at most it. Raises IterationLimitError when max_iterations (default 1000) runs
     out first: that is no contact, and the motion is only known free up to its time_reached.
     The points reported are the meshes' closest at that time, with their exact distance;
     contact_pair=True reports those of the triangle pair that ended the advancement instead

@@ -636,6 +636,7 @@ impl<'r> Segment<'r> {
                 end: end.min(limit),
                 delta: self.delta,
                 resolution: NORMAL_RESOLUTION * scale,
+                contact: Span::contact(self.delta, scale),
                 max_iterations: self.max_iterations,
                 first_window: FIRST_WINDOW,
                 slack: (FAR_SLACK, NEAR_SLACK),

@@ -10,7 +10,10 @@
 //! Semantics (the tests check them against dense sampling): a contact is returned whenever the
 //! meshes come closer than `delta / 2` (in particular whenever they collide), never when they
 //! stay farther apart than `delta`, and either way in between. A returned time is no later
-//! than the first collision, and the distance there is at most `delta`. Touching at `t = 0`
+//! than the first collision, and the distance there is at most `delta`. A tolerance below the
+//! distances' own accuracy ([`DISTANCE_RESOLUTION`] of the scene scale, about what the
+//! coordinates resolve) cannot be told from contact: a triangle pair within that accuracy ends
+//! the advancement too, and the distance returned is then at most it. Touching at `t = 0`
 //! returns `t = 0` with [`ContactStatus::StartedInContact`]. Reaching the iteration cap first is
 //! an error ([`ContactError::IterationLimit`]), never a contact.
 //!
@@ -81,6 +84,14 @@ impl Path<'_> {
 /// normal is taken from the iterate before (module docs).
 pub const NORMAL_RESOLUTION: f64 = 1e-10;
 
+/// The accuracy of a distance, as a fraction of the scene scale (ARCHITECTURE.md): a triangle
+/// pair whose distance is within it ends the advancement whatever the tolerance, since below
+/// it a distance cannot be told from contact. Without it a tolerance below the rounding of the
+/// distances could not be reached: the steps, taken against `delta / 2`, shrank with that
+/// rounding, and a box a million units wide turning past another with a tolerance of 1e-300
+/// crawled to the iteration cap.
+pub const DISTANCE_RESOLUTION: f64 = 2e-13;
+
 /// Relative step slack far from contact (see the module docs).
 pub const FAR_SLACK: f64 = 0.25;
 /// Relative step slack near contact (see the module docs).
@@ -92,7 +103,9 @@ pub struct ContactOptions {
     /// Distance tolerance `delta` (model units, > 0): a returned time has distance at most this.
     /// `None` uses [`effective_tolerance`]'s default: `1e-3` times the smaller bounding radius,
     /// raised for degenerate meshes (points, segments) to `1e-6` of the larger radius and to
-    /// `1e-12` of the scene scale.
+    /// `1e-12` of the scene scale. A tolerance below [`DISTANCE_RESOLUTION`] of the scene
+    /// scale (the distances' own accuracy) is kept for the steps, but a pair within that
+    /// accuracy ends the advancement (module docs).
     pub tolerance: Option<f64>,
     /// Largest number of advancement iterations (>= 1). Default 1000.
     pub max_iterations: usize,
@@ -415,6 +428,9 @@ pub(crate) struct Span {
     pub end: f64,
     pub delta: f64,
     pub resolution: f64,
+    /// A triangle pair within this distance ends the advancement: `delta`, or
+    /// [`DISTANCE_RESOLUTION`] of the scene scale where `delta` is below it ([`Span::contact`]).
+    pub contact: f64,
     pub max_iterations: usize,
     /// The first iteration's window as a fraction of the span (at most 1): the bounds hold over
     /// the window, and pairs whose step exceeds it are not visited.
@@ -429,6 +445,12 @@ pub(crate) struct Span {
 }
 
 impl Span {
+    /// The distance within which a triangle pair ends an advancement with tolerance `delta` in
+    /// a scene of scale `scale`: `delta`, raised to [`DISTANCE_RESOLUTION`] of the scale.
+    pub(crate) fn contact(delta: f64, scale: f64) -> f64 {
+        delta.max(DISTANCE_RESOLUTION * scale)
+    }
+
     /// A rigid query's span: all of `[0, 1]` with the default window and slacks, from the
     /// checked options (tolerance, scene scale, iteration cap; see `checked`).
     fn whole_motion((delta, scale, max_iterations): (f64, f64, usize), start_free: bool) -> Self {
@@ -437,6 +459,7 @@ impl Span {
             end: 1.0,
             delta,
             resolution: NORMAL_RESOLUTION * scale,
+            contact: Self::contact(delta, scale),
             max_iterations,
             first_window: 1.0,
             slack: (FAR_SLACK, NEAR_SLACK),
@@ -501,7 +524,14 @@ fn advance_core<const PROBING: bool>(
     }
     let small_radius = mesh1.bounding_radius().min(mesh2.bounding_radius());
     let far = (50.0 * delta).max(small_radius / 50.0);
-    let mut search = StepSearch::new(mesh1, path1, mesh2, path2, delta, cache.simplex);
+    let mut search = StepSearch::new(
+        mesh1,
+        path1,
+        mesh2,
+        path2,
+        (delta, span.contact),
+        cache.simplex,
+    );
     let mut t = span.start;
     let mut earlier = None;
     let mut last_distance = f64::INFINITY;

@@ -5,8 +5,8 @@
 //! step returned is larger where it can be: the smallest of `best` (every evaluated triangle
 //! pair's step is at least that) and the certified steps of the pairs actually left unvisited
 //! (`pruned`: each was computed before the pair was dropped, and is a certificate for every
-//! triangle pair below it), never more than the window. A triangle pair within `delta` ends the
-//! search.
+//! triangle pair below it), never more than the window. A triangle pair within `delta` (or within the
+//! scene's distance resolution, where `delta` is below it: `Span::contact`) ends the search.
 
 use super::shells::AxisShells;
 use super::Path;
@@ -57,6 +57,9 @@ pub(crate) struct StepSearch<'a> {
     motion1: Path<'a>,
     motion2: Path<'a>,
     delta: f64,
+    /// A triangle pair within this distance ends the search (`delta`, raised to the scene's
+    /// distance resolution: `Span::contact`).
+    contact: f64,
     // Per-iteration state.
     rot12: Mat3,
     /// `rot12` transposed: mesh 1's frame into mesh 2's.
@@ -264,7 +267,7 @@ impl<'a> StepSearch<'a> {
         motion1: Path<'a>,
         mesh2: &'a TriMesh,
         motion2: Path<'a>,
-        delta: f64,
+        (delta, contact): (f64, f64),
         simplex: WarmSimplex,
     ) -> Self {
         let shells = match (motion1, motion2) {
@@ -279,6 +282,7 @@ impl<'a> StepSearch<'a> {
             motion1,
             motion2,
             delta,
+            contact,
             rot12: Mat3::IDENTITY,
             rot21: Mat3::IDENTITY,
             trans12: Vec3::ZERO,
@@ -436,7 +440,7 @@ impl<'a> StepSearch<'a> {
         let t2 = body2.map(|p| self.rot12 * p + self.trans12);
         let d = distance_triangle_triangle(t1, &t2);
         self.closest = self.closest.min(d.distance);
-        if d.distance <= self.delta {
+        if d.distance <= self.contact {
             return true;
         }
         let (s1, s2) = (
@@ -472,7 +476,7 @@ impl<'a> StepSearch<'a> {
         let rounding = gjk::ROUNDING * ended.scale;
         // Near `delta` (or within rounding of `delta / 2`, where a tolerance of 1e-300 would
         // shrink the steps forever) the certified separation decides.
-        if gap - rounding <= self.delta || gap - rounding - 0.5 * self.delta <= rounding {
+        if gap - rounding <= self.contact || gap - rounding - 0.5 * self.delta <= rounding {
             let s = g.certify(&ended, &rot12, trans12)?;
             return self.convex_step(&s);
         }
@@ -506,7 +510,7 @@ impl<'a> StepSearch<'a> {
     /// pair would.
     fn convex_step(&mut self, s: &Separation) -> Option<StepOutcome> {
         self.closest = s.pair.distance;
-        if s.pair.distance <= self.delta {
+        if s.pair.distance <= self.contact {
             return Some(StepOutcome::Within {
                 pair: s.leaves,
                 closest: s.certifies(0.0).then_some(s.pair),
