@@ -726,8 +726,17 @@ fn gauss_depth(
                     continue;
                 };
                 if side != 0.0 {
+                    // Crossing arcs make the two edges the supports along `n`, and their
+                    // points' overlap is the candidate's. Where rounding declared a crossing
+                    // that is not one (nearly parallel edges: two coincident pancakes 1e6
+                    // wide and 20 thick got an overlap of 0 against a depth of 20), they are
+                    // not supports and that overlap can fall below the depth: a candidate
+                    // that would become the best has its supports climbed.
                     let (n, q) = (n * side, vb[y.corner as usize]);
-                    keep(&mut best, n.dot(p - q), n, p, q);
+                    if n.dot(p - q) < best.0 {
+                        let (o, p, q, _) = climbed(n, (x.corner, y.corner));
+                        keep(&mut best, o, n, p, q);
+                    }
                 } else {
                     for n in [n, -n] {
                         let (o, p, q, _) = climbed(n, (x.corner, y.corner));
@@ -1163,5 +1172,57 @@ pub(crate) mod tests {
             exact_depth(&cube, &all_pairs(p), &Pose::IDENTITY, &flat, q, &turned).expect("small");
         assert_eq!(d.0, e.0);
         assert!(d.0 > 0.0);
+    }
+
+    /// Pancakes (UV spheres flattened to 1e-3 to 1e-7 of their width, a million units wide)
+    /// against a copy of themselves, coincident, shifted a little or turned a little: nearly
+    /// parallel edges whose arcs rounding declared crossing gave the coincident pair an overlap
+    /// of 0 (depth 20 at 1e-5; found by fuzzing). The Gauss map's answer and the whole depth
+    /// equal the every-pair oracle's.
+    #[test]
+    fn coincident_and_nearly_coincident_pancakes() {
+        for (rings, segments, thickness) in [
+            (4, 8, 1e-5),
+            (8, 16, 1e-5),
+            (8, 16, 1e-3),
+            (8, 16, 1e-7),
+            (6, 12, 1e-4),
+        ] {
+            let ball = mesh::sphere(1.0, rings, segments).expect("sphere");
+            let v = ball
+                .vertices()
+                .iter()
+                .map(|p| Vec3::new(p.x, p.y, p.z * thickness) * 1e6)
+                .collect();
+            let pancake = TriMesh::new(v, ball.triangles().to_vec()).expect("pancake");
+            let p = pancake.convex_polytope().expect("convex");
+            // The flattest has no Gauss map (its sides are too thin to tell apart): the whole
+            // depth is still compared.
+            assert!(p.gauss.is_some() || thickness < 1e-6);
+            for other in [
+                Pose::IDENTITY,
+                Pose::from_translation(Vec3::new(3.0, -2.0, 0.5 * thickness * 1e6)),
+                Pose::from_axis_angle(Vec3::new(0.3, 0.1, 1.0), 1e-6, Vec3::ZERO),
+                Pose::from_axis_angle(Vec3::X, 1e-9, Vec3::new(0.0, 0.0, 1e-3)),
+            ] {
+                let id = Pose::IDENTITY;
+                let oracle = every_pair_depth((&pancake, p, &id), (&pancake, p, &other))
+                    .expect("small")
+                    .0;
+                let gauss = exact_depth_without_epa((&pancake, p, &id), (&pancake, p, &other))
+                    .expect("small")
+                    .0;
+                let whole = exact_depth(&pancake, p, &id, &pancake, p, &other)
+                    .expect("small")
+                    .0;
+                for d in [gauss, whole] {
+                    assert!(
+                        (d - oracle).abs() <= 1e-9 * oracle,
+                        "{rings} {segments} {thickness:e} {other:?}: {d} against {oracle}"
+                    );
+                }
+                assert!(oracle > 0.4 * thickness * 1e6);
+            }
+        }
     }
 }
