@@ -7,7 +7,7 @@ import pytest
 
 import tocsin
 
-ConvexHull = pytest.importorskip("scipy.spatial").ConvexHull
+from scipy.spatial import ConvexHull  # installed by `make test`
 
 
 def hull(rng, n, semi):
@@ -107,3 +107,120 @@ def test_time_of_contact_against_sampling(kind):
         if closest < 0.4 * delta or closest > 1.1 * delta:
             assert (fast is None) == (slow is None), (case, closest, delta)
     assert 5 <= contacts <= 22, contacts
+
+
+def nasty_hull(rng):
+    """A seeded convex hull among the shapes that broke the convex paths or nearly did: needles,
+    pancakes, nearly flat caps, gridded boxes with rounding noise, prisms of many sides, sliver
+    tetrahedra, at sizes from 1e-6 to 1e6; triangles wound outwards."""
+    kind = int(rng.integers(7))
+    n = int(rng.choice([4, 8, 20, 100]))
+    semi = [(1, 10 ** rng.uniform(-4, -1), 10 ** rng.uniform(-4, -1)), (1, 1, 10 ** rng.uniform(-5, -1))]
+    p = rng.normal(size=(n, 3))
+    p /= np.linalg.norm(p, axis=1)[:, None]
+    if kind < 2:
+        p *= semi[kind]
+    elif kind == 2:
+        p[:, 2] = np.abs(p[:, 2]) * 1e-3 + 1.0
+        p = np.vstack([p, [[0, 0, 0]]])
+    elif kind == 3:
+        g = np.array(np.meshgrid([-1, 0, 1], [-1, 0, 1], [-1, 0, 1])).reshape(3, -1).T.astype(float)
+        g = g[np.abs(g).max(axis=1) == 1] * rng.uniform(0.2, 1, 3)
+        p = g + rng.normal(size=g.shape) * 1e-9
+    elif kind == 4:
+        a = np.linspace(0, 2 * np.pi, int(rng.choice([16, 64])), endpoint=False)
+        h = 10 ** rng.uniform(-3, 0)
+        p = np.vstack([np.c_[np.cos(a), np.sin(a), np.full(a.size, z)] for z in (-h, h)])
+    elif kind == 5:
+        p = rng.normal(size=(4, 3))
+        p[:, 2] *= 10 ** rng.uniform(-8, -3)
+    p = p * 10.0 ** rng.choice([0, 0, -6, 6])
+    t = ConvexHull(p).simplices.astype(np.int64)
+    c = p.mean(axis=0)
+    n = np.cross(p[t[:, 1]] - p[t[:, 0]], p[t[:, 2]] - p[t[:, 0]])
+    flip = np.einsum("ij,ij->i", n, p[t[:, 0]] - c) < 0
+    t[flip] = t[flip][:, ::-1]
+    return tocsin.Mesh(p, t)
+
+
+def brute_depth(a, pa, b, pb):
+    """The exact depth of two convex polytopes: the smallest support overlap over every face
+    normal of both and every cross product of an edge of each (loops over every corner)."""
+    A = np.asarray(a.vertices) @ pa[:3, :3].T + pa[:3, 3]
+    B = np.asarray(b.vertices) @ pb[:3, :3].T + pb[:3, 3]
+
+    def normals_edges(V, T):
+        T = np.asarray(T)
+        e = [V[T[:, (i + 1) % 3]] - V[T[:, i]] for i in range(3)]
+        return np.cross(e[0], -e[2]), np.vstack(e)
+
+    na, ea = normals_edges(A, a.triangles)
+    nb, eb = normals_edges(B, b.triangles)
+    d = np.vstack([na, nb, np.cross(ea[:, None, :], eb[None, :, :]).reshape(-1, 3)])
+    length = np.linalg.norm(d, axis=1)
+    d = d[length > 0] / length[length > 0, None]
+    d = np.vstack([d, -d])
+    return ((A @ d.T).max(axis=0) - (B @ d.T).min(axis=0)).min()
+
+
+def test_nasty_shapes_against_the_general_path_and_brute_force():
+    """Seeded pairs of nasty hulls (above), a sixth of them a hull against its own copy, placed
+    apart, at gaps of 1e-2 to 1e-11 of their reach, touching and overlapping: distance and
+    within_distance equal the general path's, the exact depth equals the brute force over every
+    candidate direction (small meshes) and its translation separates, and a time of contact
+    (default tolerance or 1e-7 of the smaller radius) is never late against dense samples, within
+    the tolerance or the distances' accuracy where it ends, and agrees with motion_is_free. The
+    fuzzing that found two defects (coincident pancakes' depth taken as 0; a million-unit hull
+    against a micron one with a tolerance of 1e-13 crawling to the iteration cap) ran this on
+    about 4,000 pairs."""
+    rng = np.random.default_rng(40)
+    depths = contacts = 0
+    for case in range(150):
+        a = nasty_hull(rng)
+        b = a if case % 6 == 0 else nasty_hull(rng)
+        if not (a.is_convex and b.is_convex):
+            continue
+        sa, sb = as_soup(a), as_soup(b)
+        reach = a.bounding_radius + b.bounding_radius
+        pa = random_pose(rng, np.zeros(3))
+        d = rng.normal(size=3)
+        d /= np.linalg.norm(d)
+        pb = random_pose(rng, d * reach * rng.uniform(0.2, 1.5))
+        gap = [None, 1e-2, 1e-5, 1e-8, 1e-11, 0.0, -1e-3][case % 7]
+        if gap is not None:
+            r = tocsin.distance(sa, pa, sb, pb)
+            if r.distance > 0:
+                n = np.subtract(r.point2, r.point1) / r.distance
+                pb[:3, 3] -= n * (r.distance - gap * reach)
+        fast, slow = tocsin.distance(a, pa, b, pb), tocsin.distance(sa, pa, sb, pb)
+        assert abs(fast.distance - slow.distance) <= 1e-11 * reach, (case, fast.distance, slow.distance)
+        for threshold in (slow.distance * (1 - 1e-6), slow.distance * (1 + 1e-6)):
+            if abs(threshold - slow.distance) > 1e-10 * reach:
+                assert tocsin.within_distance(a, pa, b, pb, threshold) == (slow.distance <= threshold)
+        if slow.distance == 0.0 and tocsin.collide(sa, pa, sb, pb):
+            depth = tocsin.penetration_depth(a, pa, b, pb)
+            if depth.depth > 1e-12 * reach:
+                depths += 1
+                assert depth.exact, case
+                if a.num_triangles * b.num_triangles <= 20000:
+                    assert abs(depth.depth - brute_depth(a, pa, b, pb)) <= 1e-10 * reach, case
+                moved = pb.copy()
+                moved[:3, 3] += np.asarray(depth.translation)
+                assert not tocsin.collide(sa, pa, sb, moved), case
+        if slow.distance > 0:
+            end = random_pose(rng, -d * reach * rng.uniform(-0.5, 1.5) + rng.normal(size=3) * reach * 0.3)
+            motion = (tocsin.Motion.interp if case % 2 else tocsin.Motion.screw)(pb, end)
+            still = tocsin.Motion.stationary(pa)
+            tol = None if case % 3 else 1e-7 * min(a.bounding_radius, b.bounding_radius)
+            c = tocsin.time_of_contact(a, still, b, motion, tolerance=tol)
+            assert tocsin.motion_is_free(a, still, b, motion, tolerance=tol) == (c is None), case
+            delta = tol if tol is not None else max(1e-3 * min(a.bounding_radius, b.bounding_radius), 1e-6 * max(a.bounding_radius, b.bounding_radius))
+            limit = c.time if c is not None else 1.0
+            times = np.linspace(0, limit, 200, endpoint=c is None)
+            samples = [tocsin.distance(sa, pa, sb, motion.pose_at(t)).distance for t in times if c is None or t < limit]
+            assert min(samples, default=np.inf) >= delta / 2 - 1e-12 * reach, case
+            if c is not None:
+                contacts += 1
+                scene = reach + np.linalg.norm(end[:3, 3]) + np.linalg.norm(pb[:3, 3])
+                assert c.distance <= max(delta, 2e-13 * scene) * (1 + 1e-9), (case, c.distance, delta)
+    assert depths >= 10 and contacts >= 40, (depths, contacts)
