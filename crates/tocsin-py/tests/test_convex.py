@@ -109,12 +109,13 @@ def test_time_of_contact_against_sampling(kind):
     assert 5 <= contacts <= 22, contacts
 
 
-def nasty_hull(rng):
+def nasty_hull(rng, kind=None, size=None, n=None):
     """A seeded convex hull among the shapes that broke the convex paths or nearly did: needles,
     pancakes, nearly flat caps, gridded boxes with rounding noise, prisms of many sides, sliver
-    tetrahedra, at sizes from 1e-6 to 1e6; triangles wound outwards."""
-    kind = int(rng.integers(7))
-    n = int(rng.choice([4, 8, 20, 100]))
+    tetrahedra, at sizes from 1e-6 to 1e6; triangles wound outwards. `kind`, `size` and `n` force
+    one shape, size and point count."""
+    kind = int(rng.integers(7)) if kind is None else kind
+    n = int(rng.choice([4, 8, 20, 100])) if n is None else n
     semi = [(1, 10 ** rng.uniform(-4, -1), 10 ** rng.uniform(-4, -1)), (1, 1, 10 ** rng.uniform(-5, -1))]
     p = rng.normal(size=(n, 3))
     p /= np.linalg.norm(p, axis=1)[:, None]
@@ -134,7 +135,7 @@ def nasty_hull(rng):
     elif kind == 5:
         p = rng.normal(size=(4, 3))
         p[:, 2] *= 10 ** rng.uniform(-8, -3)
-    p = p * 10.0 ** rng.choice([0, 0, -6, 6])
+    p = p * (10.0 ** rng.choice([0, 0, -6, 6]) if size is None else size)
     t = ConvexHull(p).simplices.astype(np.int64)
     c = p.mean(axis=0)
     n = np.cross(p[t[:, 1]] - p[t[:, 0]], p[t[:, 2]] - p[t[:, 0]])
@@ -168,16 +169,27 @@ def test_nasty_shapes_against_the_general_path_and_brute_force():
     apart, at gaps of 1e-2 to 1e-11 of their reach, touching and overlapping: distance and
     within_distance equal the general path's, the exact depth equals the brute force over every
     candidate direction (small meshes) and its translation separates, and a time of contact
-    (default tolerance or 1e-7 of the smaller radius) is never late against dense samples, within
-    the tolerance or the distances' accuracy where it ends, and agrees with motion_is_free. The
-    fuzzing that found two defects (coincident pancakes' depth taken as 0; a million-unit hull
-    against a micron one with a tolerance of 1e-13 crawling to the iteration cap) ran this on
-    about 4,000 pairs."""
+    (default tolerance, 1e-7 of the smaller radius, or 1e-300) is never late against dense
+    samples, within the tolerance or the distances' accuracy where it ends, and agrees with
+    motion_is_free. The first ten pairs are the kinds of the two defects the fuzzing of these
+    paths found (about 6,900 pairs; docs/BENCHMARKS.md, fortieth session): coincident pancakes
+    whose depth was taken as 0, and a box a million wide turning through a micron one with a
+    tolerance of 1e-300, which crawled to the iteration cap. The build before the fixes fails
+    on both."""
     rng = np.random.default_rng(40)
     depths = contacts = 0
-    for case in range(150):
-        a = nasty_hull(rng)
-        b = a if case % 6 == 0 else nasty_hull(rng)
+    for case in range(160):
+        # The first ten are the two defects' kinds: pancakes a million wide against their own
+        # copy, coincident (depth), and a box a million wide turning through a micron one with
+        # a tolerance of 1e-300 (time of contact).
+        if case < 5:
+            a = nasty_hull(rng, kind=1, size=1e6, n=20)
+            b = a
+        elif case < 10:
+            a, b = nasty_hull(rng, kind=3, size=1e-6), nasty_hull(rng, kind=3, size=1e6)
+        else:
+            a = nasty_hull(rng)
+            b = a if case % 6 == 0 else nasty_hull(rng)
         if not (a.is_convex and b.is_convex):
             continue
         sa, sb = as_soup(a), as_soup(b)
@@ -187,6 +199,10 @@ def test_nasty_shapes_against_the_general_path_and_brute_force():
         d /= np.linalg.norm(d)
         pb = random_pose(rng, d * reach * rng.uniform(0.2, 1.5))
         gap = [None, 1e-2, 1e-5, 1e-8, 1e-11, 0.0, -1e-3][case % 7]
+        if case < 10:
+            gap = None
+        if case < 5:
+            pb = pa.copy()
         if gap is not None:
             r = tocsin.distance(sa, pa, sb, pb)
             if r.distance > 0:
@@ -197,21 +213,25 @@ def test_nasty_shapes_against_the_general_path_and_brute_force():
         for threshold in (slow.distance * (1 - 1e-6), slow.distance * (1 + 1e-6)):
             if abs(threshold - slow.distance) > 1e-10 * reach:
                 assert tocsin.within_distance(a, pa, b, pb, threshold) == (slow.distance <= threshold)
-        if slow.distance == 0.0 and tocsin.collide(sa, pa, sb, pb):
+        if slow.distance <= 1e-12 * reach and tocsin.collide(sa, pa, sb, pb):
             depth = tocsin.penetration_depth(a, pa, b, pb)
+            if a.num_triangles * b.num_triangles <= 20000:
+                assert abs(depth.depth - max(brute_depth(a, pa, b, pb), 0.0)) <= 1e-10 * reach, case
             if depth.depth > 1e-12 * reach:
                 depths += 1
                 assert depth.exact, case
-                if a.num_triangles * b.num_triangles <= 20000:
-                    assert abs(depth.depth - brute_depth(a, pa, b, pb)) <= 1e-10 * reach, case
                 moved = pb.copy()
                 moved[:3, 3] += np.asarray(depth.translation)
                 assert not tocsin.collide(sa, pa, sb, moved), case
         if slow.distance > 0:
             end = random_pose(rng, -d * reach * rng.uniform(-0.5, 1.5) + rng.normal(size=3) * reach * 0.3)
+            if 5 <= case < 10:
+                end[:3, 3] = -pb[:3, 3]  # through the small one
             motion = (tocsin.Motion.interp if case % 2 else tocsin.Motion.screw)(pb, end)
             still = tocsin.Motion.stationary(pa)
             tol = None if case % 3 else 1e-7 * min(a.bounding_radius, b.bounding_radius)
+            if 5 <= case < 10:
+                tol = 1e-300
             c = tocsin.time_of_contact(a, still, b, motion, tolerance=tol)
             assert tocsin.motion_is_free(a, still, b, motion, tolerance=tol) == (c is None), case
             delta = tol if tol is not None else max(1e-3 * min(a.bounding_radius, b.bounding_radius), 1e-6 * max(a.bounding_radius, b.bounding_radius))
