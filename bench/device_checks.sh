@@ -15,7 +15,8 @@
 #   jsonschema, jsonschema-specifications, referencing, rpds-py (cp312, manylinux).
 #
 # Then call the device with carry [".dev", ".whl"] and `bash bench/device_checks.sh`
-# (SKIP_GPU=1 or SKIP_RAY=1 to run one half; RAY_RUNS, a subset of "scaling big threads", for
+# (SKIP_GPU=1 or SKIP_RAY=1 to run one half; RAY_RUNS, a subset of "scaling big threads
+# attribute", for
 # the Ray runs; RAY_LIMIT, RAY_BIG_LIMIT, RAY_THREADS_LIMIT seconds for each). Results go to
 # $OUT (the device tool's folder) and to the output.
 R=$(pwd)
@@ -42,13 +43,18 @@ P
 cp crates/tocsin-py/python/tocsin/*.py /tmp/site/tocsin/
 export PYTHONPATH=/tmp/site RAY_AUTH_MODE=disabled PYTHONUNBUFFERED=1
 python3 -c "import ray, tocsin, numpy; print('ray', ray.__version__, 'numpy', numpy.__version__)" 2>&1 | tail -2
-RUNS=${RAY_RUNS:-scaling big threads}
+RUNS=${RAY_RUNS:-scaling big threads attribute}
 case " $RUNS " in *" scaling "*)
 timeout ${RAY_LIMIT:-260} python3 bench/ray_throughput.py --scaling 2>&1 | grep -v WARNING | tee $O/ray.txt ;; esac
 # The same with a batch four times as large, one timed call per CPU count: the per-call cost of
 # Ray (its tasks' start and the results' return) spread over more work.
 case " $RUNS " in *" big "*)
 timeout ${RAY_BIG_LIMIT:-200} python3 bench/ray_throughput.py --scaling --queries 64000 --repeats 1 2>&1 | grep -v WARNING | tee $O/ray_big.txt ;; esac
+# Where Ray's time goes: CPU seconds by process (workers, raylet, GCS, agents, driver) during
+# the warm batch, beside the local batch's, and the idle share (RAY_ATTRIBUTE_ARGS, e.g.
+# "--counts 8,16 --repeats 3").
+case " $RUNS " in *" attribute "*)
+timeout ${RAY_ATTRIBUTE_LIMIT:-300} python3 bench/ray_throughput.py --attribute ${RAY_ATTRIBUTE_ARGS:-} 2>&1 | grep -v WARNING | tee $O/ray_attribute.txt ;; esac
 # Tasks as wide as 1, 4 or all of a cluster's CPUs, and a pool of single-threaded processes.
 case " $RUNS " in *" threads "*)
 timeout ${RAY_THREADS_LIMIT:-240} python3 bench/ray_throughput.py --threads-per-task ${RAY_THREADS_ARGS:-} 2>&1 | grep -v WARNING | tee $O/ray_threads.txt ;; esac

@@ -20,6 +20,11 @@ against Ray on 1 CPU.
 width of the cluster's CPUs), `--counts 1,16` clusters, beside a multiprocessing pool of
 single-threaded processes.
 
+`--attribute` instead: where Ray's time goes at the machine's CPU count (`--counts` to choose):
+the CPU seconds each process spent during the warm batch (from /proc: Ray's workers, its raylet,
+GCS and other daemons, the driver), beside the local batch's CPU seconds on as many threads,
+and the idle share (CPUs times wall time less every process's CPU time). Median of `--repeats`.
+
 Run: `python bench/ray_throughput.py [--scaling]` (needs ray: `pip install "tocsin[ray]"`).
 """
 
@@ -48,17 +53,20 @@ def motions(n, seed):
 
 
 def local(threads, fn, queries=2000):
-    """Runs fn in a child process with RAYON_NUM_THREADS=threads (the pool is per process)."""
+    """The local batch's wall time in a child process with RAYON_NUM_THREADS=threads (the pool is
+    per process); with fn "cpu", (wall time, the batch's CPU seconds)."""
     code = (
         "import time, pickle, sys; sys.path.insert(0, %r); import ray_throughput as b; import tocsin\n"
         f"knot = tocsin.Mesh.torus_knot(344, 50); s, e = b.motions({queries}, 1)\n"
         "tocsin.time_of_contact_batch(knot, s[:20], e[:20], knot, kind='screw')\n"
-        "t = time.perf_counter(); r = tocsin.time_of_contact_batch(knot, s, e, knot, kind='screw'); dt = time.perf_counter() - t\n"
-        "print(dt)" % os.path.dirname(os.path.abspath(__file__))
+        "c = time.process_time(); t = time.perf_counter(); r = tocsin.time_of_contact_batch(knot, s, e, knot, kind='screw')\n"
+        "dt, dc = time.perf_counter() - t, time.process_time() - c\n"
+        "print(dt, dc)" % os.path.dirname(os.path.abspath(__file__))
     )
     env = dict(os.environ, RAYON_NUM_THREADS=str(threads))
     out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
-    return float(out.stdout.strip())
+    wall, cpu = (float(x) for x in out.stdout.split())
+    return (wall, cpu) if fn == "cpu" else wall
 
 
 def main():
@@ -265,10 +273,97 @@ def threads_per_task():
         ray.shutdown()
 
 
+def _cpu_by_process():
+    """CPU seconds (user + system) so far of every process on the machine, by pid, with its
+    name and command line (Linux /proc; processes that end while read are skipped)."""
+    tick = os.sysconf("SC_CLK_TCK")
+    out = {}
+    for pid in os.listdir("/proc"):
+        if not pid.isdigit():
+            continue
+        try:
+            with open(f"/proc/{pid}/stat") as f:
+                stat = f.read()
+            with open(f"/proc/{pid}/cmdline", "rb") as f:
+                cmd = f.read().replace(b"\0", b" ").decode(errors="replace")
+        except OSError:
+            continue
+        name = stat[stat.index("(") + 1 : stat.rindex(")")]
+        fields = stat[stat.rindex(")") + 2 :].split()
+        out[int(pid)] = (name, cmd, (int(fields[11]) + int(fields[12])) / tick)
+    return out
+
+
+def _role(pid, name, cmd):
+    """Which part of a Ray run a process is: the driver, a worker, a daemon or other."""
+    if pid == os.getpid():
+        return "driver"
+    # By the executable's name first: the raylet's command line holds the workers' command.
+    if name == "raylet":
+        return "raylet"
+    if name == "gcs_server":
+        return "GCS server"
+    if name.startswith(("ray::DashboardA", "ray::RuntimeEnv")):
+        return "Ray agents (dashboard, runtime env)"
+    if name.startswith("ray::") or "default_worker.py" in cmd:
+        return "Ray workers"
+    if "site-packages/ray/" in cmd:
+        return "other Ray processes (monitor, log monitor, dashboard)"
+    return "other"
+
+
+def attribute():
+    import ray
+    from tocsin import distributed
+
+    queries, repeats, knot, starts, ends, reference, cores = workload()
+    counts = [int(c) for c in option("--counts", str(cores)).split(",")]
+    tick = 1 / os.sysconf("SC_CLK_TCK")
+    print(f"machine: {platform.processor() or platform.machine()}, {cores} CPUs; {queries:,} knot34k "
+          f"screw motions; median of {repeats} (CPU seconds from /proc, resolution {tick:.2f} s)")
+    for cpus in counts:
+        # The local batch in a child process: its wall time and CPU seconds.
+        local_runs = [local(cpus, "cpu", queries) for _ in range(repeats)]
+        ray.init(num_cpus=cpus, include_dashboard=False, log_to_driver=False)
+        distributed.time_of_contact_batch(knot, starts[:2000], ends[:2000], knot, kind="screw")
+        runs = []
+        for _ in range(repeats):
+            before = _cpu_by_process()
+            t = time.perf_counter()
+            r = distributed.time_of_contact_batch(knot, starts, ends, knot, kind="screw")
+            wall = time.perf_counter() - t
+            after = _cpu_by_process()
+            assert np.array_equal(r.time, reference.time, equal_nan=True)
+            roles = {}
+            for pid, (name, cmd, cpu) in after.items():
+                spent = cpu - before.get(pid, (name, cmd, 0.0))[2]
+                role = _role(pid, name, cmd)
+                roles[role] = roles.get(role, 0.0) + spent
+            runs.append((wall, roles))
+        ray.shutdown()
+        local_wall = float(np.median([w for w, _ in local_runs]))
+        local_cpu = float(np.median([c for _, c in local_runs]))
+        wall = float(np.median([w for w, _ in runs]))
+        names = sorted({k for _, roles in runs for k in roles})
+        print(f"\n{cpus} CPUs: local batch {local_wall:.3f} s wall, {local_cpu:.2f} CPU s "
+              f"({local_cpu / (cpus * local_wall):.0%} of {cpus} CPUs); Ray {wall:.3f} s wall")
+        print("| process | CPU seconds during Ray's batch (median) | share of CPUs x wall |")
+        print("|---|---:|---:|")
+        total = 0.0
+        for k in names:
+            v = float(np.median([roles.get(k, 0.0) for _, roles in runs]))
+            total += v
+            print(f"| {k} | {v:.2f} | {v / (cpus * wall):.1%} |")
+        print(f"| idle (CPUs x wall less all the above) | {max(0.0, cpus * wall - total):.2f} | "
+              f"{max(0.0, 1 - total / (cpus * wall)):.1%} |", flush=True)
+
+
 if __name__ == "__main__":
     if "--scaling" in sys.argv:
         scaling()
     elif "--threads-per-task" in sys.argv:
         threads_per_task()
+    elif "--attribute" in sys.argv:
+        attribute()
     else:
         main()
