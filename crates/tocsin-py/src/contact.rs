@@ -127,8 +127,9 @@ pub(crate) fn witnesses(contact_pair: bool) -> Witnesses {
 /// either in between. The tolerance defaults to 1e-3 of the smaller bounding radius (raised
 /// for degenerate meshes); below the distances' own accuracy (2e-13 of the scene's scale, radii
 /// plus the farthest start or end position) a pair within that accuracy counts as a contact,
-/// and the distance returned is at most it. Raises IterationLimitError when max_iterations (default 1000) runs
-/// out first: that is no contact, and the motion is only known free up to its time_reached.
+/// and the distance returned is at most it. Raises IterationLimitError when max_iterations
+/// (default 1000) runs out first: that is no contact, and the motion is only known free up to
+/// its time_reached.
 /// The points reported are the meshes' closest at that time, with their exact distance;
 /// contact_pair=True reports those of the triangle pair that ended the advancement instead
 /// (within the tolerance; their distance is at least the meshes', by up to the tolerance: a

@@ -110,7 +110,9 @@ impl Scene {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RobotOptions {
     /// Distance tolerance `delta` (model units, > 0). `None`: `1e-3` times the smallest
-    /// bounding radius among the robot's collision objects.
+    /// bounding radius among the robot's collision objects. As for two bodies, a pair within
+    /// the distances' accuracy ([`crate::query::contact_time::DISTANCE_RESOLUTION`] of the
+    /// pair's scale) is a contact even where `delta` is smaller.
     pub tolerance: Option<f64>,
     /// Iteration cap of each pair's advancement (>= 1). Default 1000.
     pub max_iterations: usize,

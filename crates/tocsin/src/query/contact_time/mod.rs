@@ -190,7 +190,8 @@ pub struct ContactCache {
 /// the option when given, else `max(1e-3 min(R1, R2), 1e-6 max(R1, R2), 1e-12 S)`, `R` the
 /// bounding radii and `S` the scene scale (radii plus the largest start or end position of
 /// either body). The last two terms only matter for degenerate meshes: a one-point mesh has
-/// `R = 0`, and 1e-3 of it is no tolerance at all.
+/// `R = 0`, and 1e-3 of it is no tolerance at all. The steps use this tolerance; a triangle
+/// pair within [`DISTANCE_RESOLUTION`] of `S` ends the advancement even where it is smaller.
 pub fn effective_tolerance(
     mesh1: &TriMesh,
     motion1: &Motion,

@@ -5,8 +5,9 @@
 //! step returned is larger where it can be: the smallest of `best` (every evaluated triangle
 //! pair's step is at least that) and the certified steps of the pairs actually left unvisited
 //! (`pruned`: each was computed before the pair was dropped, and is a certificate for every
-//! triangle pair below it), never more than the window. A triangle pair within `delta` (or within the
-//! scene's distance resolution, where `delta` is below it: `Span::contact`) ends the search.
+//! triangle pair below it), never more than the window. A triangle pair within `delta` (or
+//! within the scene's distance resolution, where `delta` is below it: `Span::contact`) ends
+//! the search.
 
 use super::shells::AxisShells;
 use super::Path;
