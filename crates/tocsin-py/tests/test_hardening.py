@@ -87,6 +87,24 @@ def test_tolerance_below_the_distance_accuracy_is_a_contact_not_a_crawl():
     assert not tocsin.motion_is_free(big, turn, small, still, tolerance=1e-300)
 
 
+def test_depth_with_a_tolerance_below_the_distance_accuracy_still_separates():
+    # With tolerance=1e-300 the touching translations ended at rounding level and the bodies
+    # still touched afterwards (collide True), on the exact convex path and the local search.
+    rng = np.random.default_rng(7)
+    for size in (1.0, 1e6):
+        knot = tocsin.Mesh(np.asarray(tocsin.Mesh.torus_knot(100, 8).vertices) * size, tocsin.Mesh.torus_knot(100, 8).triangles)
+        box = tocsin.Mesh.box([0.4 * size, 0.3 * size, 0.2 * size])
+        for mesh in (knot, box):
+            for _ in range(4):
+                q, _ = np.linalg.qr(rng.normal(size=(3, 3)))
+                pose = np.eye(4)
+                pose[:3, :3], pose[:3, 3] = q * np.sign(np.linalg.det(q)), rng.normal(size=3) * 0.1 * size
+                r = tocsin.penetration_depth(mesh, np.eye(4), mesh, pose, tolerance=1e-300)
+                moved = pose.copy()
+                moved[:3, 3] += np.asarray(r.translation)
+                assert r.status != "separated" and not tocsin.collide(mesh, np.eye(4), mesh, moved)
+
+
 def test_point_mesh_default_tolerance_and_normal():
     point = tocsin.Mesh(np.zeros((1, 3)), np.zeros((1, 3), dtype=int))
     box = tocsin.Mesh.box([0.5] * 3)

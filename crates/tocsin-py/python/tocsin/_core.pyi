@@ -573,7 +573,9 @@ def penetration_depth(
     """Translational penetration depth of mesh2 into mesh1 (PolyDepth-style local optimum).
 
     After the translation the bodies do not intersect and are apart by at most
-    ``min(tolerance, 1e-3 * depth)``; ``tolerance`` defaults to 1e-3 of the smaller radius.
+    ``min(tolerance, 1e-3 * depth)``; ``tolerance`` defaults to 1e-3 of the smaller radius, and
+    one below twice the distances' accuracy (2e-13 of the radii plus the poses' distances from
+    the origin) is raised to that, so that the bodies end apart.
     ``starts`` (default 2, at least 1): how many of the seeds' shortest touching translations
     are refined at deep penetrations (3: sometimes a few percent shallower, slower).
     """
