@@ -824,8 +824,8 @@ pub fn penetration_depth(
     options: &DepthOptions,
 ) -> Result<PenetrationDepth, ContactError> {
     // A tolerance below twice the distances' accuracy would end the touching translations at
-    // rounding level, where the bodies may still touch (a tolerance of 1e-300 left 21 of 90
-    // knot and box pairs touching): raised to it, every translation ends apart.
+    // rounding level, where the bodies may still touch (a tolerance of 1e-300 left 21 of 45
+    // knot pairs and most box pairs touching): raised to it, every translation ends apart.
     let floor = 2.0
         * DISTANCE_RESOLUTION
         * (mesh1.bounding_radius()
