@@ -110,10 +110,12 @@ impl HausdorffResult {
 /// The Hausdorff distance between the surfaces of mesh1 and mesh2 (placed by 4x4 poses):
 /// one-sided from mesh1 (max over points a of mesh1 of their distance to mesh2), or with
 /// symmetric=True the larger of both directions; exact within max_error (model units, > 0;
-/// default 1e-4 of the smaller bounding radius). Returns a HausdorffResult with the attained
-/// value, an upper bound and the witness points. A mesh against itself at another pose (a
-/// pose error), or against a copy with the same triangle list, is bounded by how far
-/// corresponding points moved and answered quickly. The GIL is released.
+/// default 1e-4 of the smaller bounding radius; one below the distances' accuracy, 2e-13 of
+/// the radii plus the poses' distances from the origin, is raised to it). Returns a
+/// HausdorffResult with the attained value, an upper bound and the witness points. A mesh
+/// against itself at another pose (a pose error), or against a copy with the same triangle
+/// list, is bounded by how far corresponding points moved and answered quickly. The GIL is
+/// released.
 #[pyfunction]
 #[pyo3(signature = (mesh1, pose1, mesh2, pose2, max_error=None, symmetric=false))]
 pub(crate) fn hausdorff_distance(
@@ -317,12 +319,13 @@ impl PointwiseResult {
 
 /// Pointwise penetration depth (Tang, Lee, Kim 2009): the largest distance from a point of one
 /// surface that lies inside the other body (winding number magnitude above 1/2) to the other surface,
-/// within max_error (default 1e-4 of the smaller bounding radius), with the two points.
-/// Depth 0 when neither surface enters the other. Exact inside/outside for closed meshes; on
-/// soups with holes a piece not crossing the other surface is classified at a point joined to it
-/// without crossing that surface (its centroid or a neighbour's). Against itself at another
-/// pose, or a copy with the same triangle list, pieces are also bounded by how far their
-/// corresponding points moved.
+/// within max_error (default 1e-4 of the smaller bounding radius; one below the distances'
+/// accuracy, 2e-13 of the radii plus the poses' distances from the origin, is raised to it),
+/// with the two points. Depth 0 when neither surface enters the other. Exact inside/outside
+/// for closed meshes; on soups with holes a piece not crossing the other surface is classified
+/// at a point joined to it without crossing that surface (its centroid or a neighbour's).
+/// Against itself at another pose, or a copy with the same triangle list, pieces are also
+/// bounded by how far their corresponding points moved.
 #[pyfunction]
 #[pyo3(signature = (mesh1, pose1, mesh2, pose2, max_error=None))]
 pub(crate) fn pointwise_penetration(

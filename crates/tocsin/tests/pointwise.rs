@@ -215,3 +215,46 @@ fn soups_with_degenerate_and_duplicated_triangles_keep_the_contract() {
     // Soups this dense overlap: most cases have points inside the other's winding number.
     assert!(deep >= 6, "{deep} of 12 cases with a depth");
 }
+
+/// An error bound below the distances' accuracy (1e-300, or 1e-16 of the size) is raised to it
+/// ([`tocsin::query::contact_time::DISTANCE_RESOLUTION`] of the radii plus the poses' distances
+/// from the origin): with 1e-16 on a knot's depth of 0.37 the search subdivided for minutes,
+/// its pieces' upper bounds unable to come within a bound that rounds away. Now both the
+/// pointwise depth and the Hausdorff distance answer, their bracket within that accuracy and
+/// holding the default bound's answer.
+#[test]
+fn an_error_bound_below_the_distance_accuracy_is_raised_to_it() {
+    use tocsin::hausdorff_distance;
+    use tocsin::query::contact_time::DISTANCE_RESOLUTION;
+    let knot = mesh::torus_knot(100, 8).unwrap();
+    let mut rng = common::rng(16);
+    for size in [1.0, 1e6] {
+        let k = TriMesh::new(
+            knot.vertices().iter().map(|&v| v * size).collect(),
+            knot.triangles().to_vec(),
+        )
+        .unwrap();
+        for _ in 0..3 {
+            let pa = Pose {
+                rotation: common::random_rotation(&mut rng),
+                translation: Vec3::ZERO,
+            };
+            let pb = Pose {
+                rotation: common::random_rotation(&mut rng),
+                translation: common::random_unit(&mut rng) * 0.3 * size,
+            };
+            let accuracy =
+                DISTANCE_RESOLUTION * (2.0 * k.bounding_radius() + pb.translation.length());
+            let coarse = 1e-4 * k.bounding_radius();
+            for bound in [1e-300, 1e-16 * size] {
+                let fine = pointwise_penetration(&k, &pa, &k, &pb, bound).unwrap();
+                let rough = pointwise_penetration(&k, &pa, &k, &pb, coarse).unwrap();
+                assert!(fine.upper_bound - fine.depth <= accuracy * (1.0 + 1e-9));
+                assert!(fine.depth >= rough.depth - 1e-9 * size);
+                assert!(fine.depth <= rough.upper_bound + 1e-9 * size);
+                let h = hausdorff_distance(&k, &pa, &k, &pb, bound, true).unwrap();
+                assert!(h.upper_bound - h.distance <= accuracy * (1.0 + 1e-9));
+            }
+        }
+    }
+}

@@ -499,6 +499,10 @@ fn size_class(triangles: usize) -> usize {
 /// copy with the same triangle list, is bounded by how far corresponding points moved, which
 /// makes a pose error quick to measure.
 ///
+/// A `max_error` below the distances' accuracy
+/// ([`crate::query::contact_time::DISTANCE_RESOLUTION`] of the radii plus the poses' distances
+/// from the origin) is raised to it: below it the search could not end.
+///
 /// # Errors
 /// [`OptionsError`] when `max_error` is not positive and finite.
 pub fn hausdorff_distance(
@@ -516,6 +520,7 @@ pub fn hausdorff_distance(
             value: max_error,
         });
     }
+    let max_error = super::resolved_error(max_error, (mesh1, pose1), (mesh2, pose2));
     let one = |a: &TriMesh, pa: &Pose, b: &TriMesh, pb: &Pose, from_first: bool| {
         let a_to_b = pb.inv_mul(pa);
         let mut s = OneSided {

@@ -46,3 +46,20 @@ pub fn default_max_error(mesh1: &crate::TriMesh, mesh2: &crate::TriMesh) -> f64 
         .min(mesh2.bounding_radius())
         .max(f64::MIN_POSITIVE)
 }
+
+/// The error bound the Hausdorff and pointwise-depth searches use: `max_error`, raised to the
+/// distances' own accuracy ([`crate::query::contact_time::DISTANCE_RESOLUTION`] of the radii
+/// plus the poses' distances from the origin). Below it a piece's upper bound cannot come
+/// within the bound of the best found, whose sum rounds to the best itself: with a bound of
+/// 1e-16 on a depth of 0.37, the pointwise search subdivided for minutes.
+pub(crate) fn resolved_error(
+    max_error: f64,
+    (mesh1, pose1): (&crate::TriMesh, &crate::Pose),
+    (mesh2, pose2): (&crate::TriMesh, &crate::Pose),
+) -> f64 {
+    let scale = mesh1.bounding_radius()
+        + mesh2.bounding_radius()
+        + pose1.translation.length()
+        + pose2.translation.length();
+    max_error.max(crate::query::contact_time::DISTANCE_RESOLUTION * scale)
+}

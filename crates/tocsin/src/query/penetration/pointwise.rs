@@ -546,6 +546,10 @@ impl<'a> Inside<'a> {
 /// does not meet the other surface is classified at a point connected to it without crossing
 /// the other surface (its centroid or a neighbour's, module docs), exact for closed meshes.
 ///
+/// A `max_error` below the distances' accuracy
+/// ([`crate::query::contact_time::DISTANCE_RESOLUTION`] of the radii plus the poses' distances
+/// from the origin) is raised to it: below it the search could not end.
+///
 /// # Errors
 /// [`OptionsError`] when `max_error` is not positive and finite.
 pub fn pointwise_penetration(
@@ -562,6 +566,7 @@ pub fn pointwise_penetration(
             value: max_error,
         });
     }
+    let max_error = super::resolved_error(max_error, (mesh1, pose1), (mesh2, pose2));
     let one = |a: &TriMesh, pa: &Pose, b: &TriMesh, pb: &Pose| {
         let a_to_b = pb.inv_mul(pa);
         let mut s = Inside::new(b, max_error);
