@@ -214,7 +214,8 @@ impl PenetrationResult {
 /// exact_convex=False runs the local search on them too). `cached_direction` (3,) is tried first
 /// (coherence between frames). `starts` (default 2, at least 1): how many of the seeds' shortest
 /// touching translations are refined at deep penetrations; 3 found a 0-6% shorter depth on 9 of
-/// 81 deep queries at about 1.2-1.4x the time. Status 'separated' (depth 0) when they do not
+/// 81 deep queries at about 1.2-1.4x the time. `directions` (default 32): seed directions
+/// spread over the sphere, at most 1,000,000. Status 'separated' (depth 0) when they do not
 /// penetrate.
 #[pyfunction]
 #[pyo3(signature = (mesh1, pose1, mesh2, pose2, tolerance=None, max_iterations=None, directions=None, cached_direction=None, exact_convex=true, starts=None))]

@@ -312,3 +312,13 @@ def test_pointwise_and_hausdorff_with_an_error_bound_below_the_distance_accuracy
         assert r.depth > 0 and r.upper_bound - r.depth <= 2e-13 * scale * (1 + 1e-9)
         h = tocsin.hausdorff_distance(knot, p1, knot, p2, max_error=bound, symmetric=True)
         assert h.upper_bound - h.distance <= 2e-13 * scale * (1 + 1e-9)
+
+
+def test_too_many_depth_directions_is_an_options_error_not_an_abort():
+    # directions=10**10 asked for 240 GB at once and aborted the interpreter.
+    knot = tocsin.Mesh.torus_knot(100, 8)
+    pose = np.eye(4)
+    pose[:3, 3] = [0.2, 0.1, 0.0]
+    for directions in (1_000_001, 10**10):
+        with pytest.raises(tocsin.OptionsError, match="directions"):
+            tocsin.penetration_depth(knot, np.eye(4), knot, pose, directions=directions)

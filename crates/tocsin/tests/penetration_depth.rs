@@ -166,6 +166,17 @@ fn containment_separated_and_a_knot_through_a_knot() {
         ..DepthOptions::default()
     };
     assert!(penetration_depth(&big, &Pose::IDENTITY, &small, &inside, &bad).is_err());
+    // Directions are allocated at once: too many is an error, not an aborted allocation.
+    for directions in [
+        tocsin::query::penetration::depth::MAX_DIRECTIONS + 1,
+        usize::MAX,
+    ] {
+        let many = DepthOptions {
+            directions,
+            ..DepthOptions::default()
+        };
+        assert!(penetration_depth(&big, &Pose::IDENTITY, &small, &inside, &many).is_err());
+    }
     let knot = mesh::torus_knot(120, 8).unwrap();
     let p2 = Pose {
         rotation: Mat3::from_axis_angle(Vec3::new(0.3, 1.0, 0.2).normalize(), 0.9),

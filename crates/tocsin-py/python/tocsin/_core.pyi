@@ -579,6 +579,7 @@ def penetration_depth(
     the origin) is raised to that, so that the bodies end apart.
     ``starts`` (default 2, at least 1): how many of the seeds' shortest touching translations
     are refined at deep penetrations (3: sometimes a few percent shallower, slower).
+    ``directions`` (default 32, at most 1,000,000): seed directions spread over the sphere.
     """
 
 @final
