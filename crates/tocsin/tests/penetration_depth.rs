@@ -435,25 +435,13 @@ fn a_tolerance_below_the_distance_accuracy_still_separates() {
     let mut penetrating = 0;
     for case in 0..36 {
         let size = [1.0, 1e3, 1e6][case % 3];
-        let (a, b) = if case % 2 == 0 {
-            let k = TriMesh::new(
-                knot.vertices().iter().map(|&v| v * size).collect(),
-                knot.triangles().to_vec(),
-            )
-            .unwrap();
-            (k.clone(), k)
+        let a = if case % 2 == 0 {
+            common::scaled(&knot, size)
         } else {
-            let b = mesh::box_mesh(Vec3::new(0.4, 0.3, 0.2) * size).unwrap();
-            (b.clone(), b)
+            mesh::box_mesh(Vec3::new(0.4, 0.3, 0.2) * size).unwrap()
         };
-        let pa = Pose {
-            rotation: common::random_rotation(&mut rng),
-            translation: Vec3::ZERO,
-        };
-        let pb = Pose {
-            rotation: common::random_rotation(&mut rng),
-            translation: common::random_unit(&mut rng) * 0.3 * size,
-        };
+        let b = a.clone();
+        let (pa, pb) = common::overlapping_poses(&mut rng, size);
         for tolerance in [1e-300, 1e-20 * size] {
             let options = DepthOptions {
                 tolerance: Some(tolerance),

@@ -229,20 +229,9 @@ fn an_error_bound_below_the_distance_accuracy_is_raised_to_it() {
     let knot = mesh::torus_knot(100, 8).unwrap();
     let mut rng = common::rng(16);
     for size in [1.0, 1e6] {
-        let k = TriMesh::new(
-            knot.vertices().iter().map(|&v| v * size).collect(),
-            knot.triangles().to_vec(),
-        )
-        .unwrap();
+        let k = common::scaled(&knot, size);
         for _ in 0..3 {
-            let pa = Pose {
-                rotation: common::random_rotation(&mut rng),
-                translation: Vec3::ZERO,
-            };
-            let pb = Pose {
-                rotation: common::random_rotation(&mut rng),
-                translation: common::random_unit(&mut rng) * 0.3 * size,
-            };
+            let (pa, pb) = common::overlapping_poses(&mut rng, size);
             let accuracy =
                 DISTANCE_RESOLUTION * (2.0 * k.bounding_radius() + pb.translation.length());
             let coarse = 1e-4 * k.bounding_radius();

@@ -42,6 +42,29 @@ pub fn random_pose(rng: &mut impl Rng, spread: f64) -> Pose {
     }
 }
 
+/// `mesh` with every vertex multiplied by `size`.
+pub fn scaled(mesh: &TriMesh, size: f64) -> TriMesh {
+    TriMesh::new(
+        mesh.vertices().iter().map(|&v| v * size).collect(),
+        mesh.triangles().to_vec(),
+    )
+    .expect("a scaled mesh")
+}
+
+/// Two poses for a body and a copy of it of size `size` that overlap: the first turned at
+/// the origin, the second turned and moved by 0.3 of the size in a random direction.
+pub fn overlapping_poses(rng: &mut impl Rng, size: f64) -> (Pose, Pose) {
+    let first = Pose {
+        rotation: random_rotation(rng),
+        translation: Vec3::ZERO,
+    };
+    let second = Pose {
+        rotation: random_rotation(rng),
+        translation: random_unit(rng) * 0.3 * size,
+    };
+    (first, second)
+}
+
 /// A random polygon soup of about `n` triangles in a cube of half side `scale`, with degenerate
 /// (point and segment) triangles, duplicated triangles and isolated vertices mixed in.
 pub fn random_soup(rng: &mut impl Rng, n: usize, scale: f64) -> TriMesh {

@@ -124,7 +124,7 @@ use crate::query::collide::intersecting_leaves;
 use crate::query::contact_time::cast::triangle_window;
 use crate::query::contact_time::{
     advance_short_translation, effective_tolerance, finish, ContactCache, ContactOptions, Ends,
-    Path, Witnesses, DISTANCE_RESOLUTION,
+    Path, Witnesses,
 };
 use crate::query::distance::{distance_triangle_triangle, intersect_triangle_triangle};
 use crate::query::penetration::balls::penetrating_shifts;
@@ -138,8 +138,9 @@ pub struct DepthOptions {
     /// Distance tolerance of the touching configurations of the search (model units, > 0).
     /// `None`: the time of contact's default, `1e-3` of the smaller bounding radius. The
     /// answer's own gap is at most `min(tolerance, 1e-3 depth)` (the polish, module docs). A
-    /// tolerance below twice the distances' accuracy ([`DISTANCE_RESOLUTION`] of the radii plus
-    /// the poses' distances from the origin) is raised to it, so that the bodies end apart.
+    /// tolerance below twice the distances' accuracy
+    /// ([`crate::query::contact_time::DISTANCE_RESOLUTION`] of the radii plus the poses'
+    /// distances from the origin) is raised to it, so that the bodies end apart.
     pub tolerance: Option<f64>,
     /// Refinement iterations at most. Default 32.
     pub max_iterations: usize,
@@ -831,12 +832,7 @@ pub fn penetration_depth(
     // A tolerance below twice the distances' accuracy would end the touching translations at
     // rounding level, where the bodies may still touch (a tolerance of 1e-300 left 21 of 45
     // knot pairs and most box pairs touching): raised to it, every translation ends apart.
-    let floor = 2.0
-        * DISTANCE_RESOLUTION
-        * (mesh1.bounding_radius()
-            + mesh2.bounding_radius()
-            + pose1.translation.length()
-            + pose2.translation.length());
+    let floor = 2.0 * super::distance_accuracy((mesh1, pose1), (mesh2, pose2));
     let contact_options = ContactOptions {
         tolerance: options.tolerance.map(|t| t.max(floor)),
         ..ContactOptions::default()

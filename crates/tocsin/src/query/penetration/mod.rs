@@ -54,6 +54,16 @@ pub fn default_max_error(mesh1: &crate::TriMesh, mesh2: &crate::TriMesh) -> f64 
 /// 1e-16 on a depth of 0.37, the pointwise search subdivided for minutes.
 pub(crate) fn resolved_error(
     max_error: f64,
+    placed1: (&crate::TriMesh, &crate::Pose),
+    placed2: (&crate::TriMesh, &crate::Pose),
+) -> f64 {
+    max_error.max(distance_accuracy(placed1, placed2))
+}
+
+/// The accuracy of a distance between two placed meshes:
+/// [`crate::query::contact_time::DISTANCE_RESOLUTION`] of their radii plus the poses' distances
+/// from the origin.
+pub(crate) fn distance_accuracy(
     (mesh1, pose1): (&crate::TriMesh, &crate::Pose),
     (mesh2, pose2): (&crate::TriMesh, &crate::Pose),
 ) -> f64 {
@@ -61,5 +71,5 @@ pub(crate) fn resolved_error(
         + mesh2.bounding_radius()
         + pose1.translation.length()
         + pose2.translation.length();
-    max_error.max(crate::query::contact_time::DISTANCE_RESOLUTION * scale)
+    crate::query::contact_time::DISTANCE_RESOLUTION * scale
 }
