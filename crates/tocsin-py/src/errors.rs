@@ -66,23 +66,25 @@ pub(crate) fn count(
     class_name: &str,
 ) -> PyResult<usize> {
     let as_int: Option<i128> = value.extract().ok();
-    match as_int {
-        Some(v) if v >= min as i128 && v <= usize::MAX as i128 => Ok(v as usize),
-        Some(v) => Err(error(
-            py,
-            class_name,
-            format!("{name} must be an integer of at least {min}, got {v}"),
-        )),
-        None => Err(error(
-            py,
-            class_name,
-            format!(
-                "{name} must be an integer, got {}",
-                value
-                    .get_type()
-                    .name()
-                    .map_or("?".into(), |n| n.to_string())
-            ),
-        )),
+    if let Some(v) = as_int.filter(|&v| v >= min as i128 && v <= usize::MAX as i128) {
+        return Ok(v as usize);
     }
+    let message = match as_int {
+        Some(v) if v < min as i128 => {
+            format!("{name} must be an integer of at least {min}, got {v}")
+        }
+        // Above the machine's range, or an int too large even for i128.
+        _ if as_int.is_some() || value.is_instance_of::<pyo3::types::PyInt>() => format!(
+            "{name} must be an integer of at most {}, got {value}",
+            usize::MAX
+        ),
+        _ => format!(
+            "{name} must be an integer, got {}",
+            value
+                .get_type()
+                .name()
+                .map_or("?".into(), |n| n.to_string())
+        ),
+    };
+    Err(error(py, class_name, message))
 }

@@ -15,6 +15,22 @@ fn points(obj: &Bound<'_, PyAny>) -> PyResult<Vec<Vec3>> {
     let s = a
         .as_slice()
         .map_err(|e| crate::errors::error(obj.py(), "OptionsError", e.to_string()))?;
+    // A NaN point had a winding number of NaN and an infinite one was "outside": bad input,
+    // said so, as for the meshes' vertices and the poses.
+    let max = tocsin::math::MAX_COORDINATE;
+    if let Some(k) = s.iter().position(|v| !v.is_finite() || v.abs() > max) {
+        return Err(crate::errors::error(
+            obj.py(),
+            "OptionsError",
+            format!(
+                "points row {}, coordinate {}: {:e} is not finite or outside the supported \
+                 range (magnitude at most {max:e})",
+                k / 3,
+                k % 3,
+                s[k]
+            ),
+        ));
+    }
     Ok(s.chunks_exact(3)
         .map(|c| Vec3::new(c[0], c[1], c[2]))
         .collect())
@@ -25,7 +41,8 @@ fn points(obj: &Bound<'_, PyAny>) -> PyResult<Vec<Vec3>> {
 /// inside-out one, fractional near holes (Jacobson et al. 2013). Clusters of triangles seen
 /// from farther than `beta` times their radius are summed as dipoles (Barill et al. 2018;
 /// beta=2: median error 2.7e-3 on a torus knot, worst 0.024); `exact=True` sums every
-/// triangle's solid angle. On all cores; the GIL is released.
+/// triangle's solid angle. On all cores; the GIL is released. Raises OptionsError for a point
+/// that is not finite or beyond 1e30 in magnitude.
 #[pyfunction]
 #[pyo3(signature = (mesh, pose, points, beta=2.0, exact=false))]
 pub(crate) fn winding_number<'py>(
@@ -51,7 +68,8 @@ pub(crate) fn winding_number<'py>(
 /// generalized winding number exceeds 1/2 (exactly evaluated wherever the fast one is near 1/2;
 /// the magnitude, as a soup has no reliable orientation: inside-out meshes have the same
 /// inside). A polygon soup has no inside for distance and collide; this is the inside the
-/// penetration queries use.
+/// penetration queries use. Raises OptionsError for a point that is not finite or beyond 1e30
+/// in magnitude.
 #[pyfunction]
 pub(crate) fn contains<'py>(
     py: Python<'py>,

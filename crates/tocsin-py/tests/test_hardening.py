@@ -322,3 +322,21 @@ def test_too_many_depth_directions_is_an_options_error_not_an_abort():
     for directions in (1_000_001, 10**10):
         with pytest.raises(tocsin.OptionsError, match="directions"):
             tocsin.penetration_depth(knot, np.eye(4), knot, pose, directions=directions)
+
+
+def test_query_points_and_huge_counts_are_options_errors():
+    # A NaN point had a winding number of NaN and an infinite one was "outside"; an int beyond
+    # the machine's range was said to need to be "at least 1".
+    knot = tocsin.Mesh.torus_knot(60, 6)
+    for bad in ([np.nan, 0, 0], [0, np.inf, 0], [0, 0, 1e31]):
+        points = np.array([[0.0, 0.0, 0.0], bad])
+        with pytest.raises(tocsin.OptionsError, match="points row 1"):
+            tocsin.winding_number(knot, np.eye(4), points)
+        with pytest.raises(tocsin.OptionsError, match="points row 1"):
+            tocsin.contains(knot, np.eye(4), points)
+    start = np.eye(4)
+    start[0, 3] = 5.0
+    motion, still = tocsin.Motion.translation(start, np.eye(4)), tocsin.Motion.stationary(np.eye(4))
+    for huge in (2**70, 2**200):
+        with pytest.raises(tocsin.OptionsError, match="at most"):
+            tocsin.time_of_contact(knot, motion, knot, still, max_iterations=huge)

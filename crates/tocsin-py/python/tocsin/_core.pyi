@@ -494,10 +494,12 @@ class RobotContact:
 def winding_number(
     mesh: Mesh, pose: ArrayLike, points: ArrayLike, beta: float = 2.0, exact: bool = False
 ) -> npt.NDArray[np.float64]:
-    """Generalized winding number of the placed mesh at each world point (N, 3)."""
+    """Generalized winding number of the placed mesh at each world point (N, 3); OptionsError
+    for a point that is not finite or beyond 1e30 in magnitude."""
 
 def contains(mesh: Mesh, pose: ArrayLike, points: ArrayLike) -> npt.NDArray[np.bool_]:
-    """Whether each world point (N, 3) is inside the placed mesh (winding number above 1/2)."""
+    """Whether each world point (N, 3) is inside the placed mesh (winding number above 1/2);
+    OptionsError for a point that is not finite or beyond 1e30 in magnitude."""
 
 @final
 class HausdorffResult:
