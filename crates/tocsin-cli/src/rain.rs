@@ -78,8 +78,8 @@ pub const RESTORE: f64 = 2e-3;
 pub const MAX_EVENTS: usize = 400;
 /// Largest turn of a body in one piece of a step, radians.
 pub const MAX_TURN: f64 = 3.0;
-/// A contact closer than this fraction of the tolerance on a one-point manifold is a body
-/// rocking on an edge (module docs).
+/// A contact closer than this fraction of the tolerance on a one- or two-point manifold is a
+/// body rocking on an edge (module docs).
 pub const ROCKING: f64 = 0.25;
 /// Corners of a box within this of the other box join a contact's manifold, metres.
 pub const MANIFOLD: f64 = 5e-3;
@@ -650,7 +650,7 @@ fn step_once(
             let points = manifold(a, b, c.contact.normal, witness(c));
             let pair = (c.body1.checked_sub(first), c.body2.checked_sub(first));
             if c.contact.distance < ROCKING * TOLERANCE && points.len() <= 2 {
-                // Closer than a contact is ever reported, on a one-point manifold: the pair
+                // Closer than a contact is ever reported, on a one- or two-point manifold: the pair
                 // came back after its impulses (module docs); its bodies stop turning.
                 for k in pair.0.into_iter().chain(pair.1) {
                     if bodies[k].w != Vec3::ZERO {

@@ -210,7 +210,12 @@ pub fn effective_tolerance(
 }
 
 /// Bounding radii plus the largest start or end position of either body.
-fn scene_scale(mesh1: &TriMesh, motion1: &Motion, mesh2: &TriMesh, motion2: &Motion) -> f64 {
+pub(crate) fn scene_scale(
+    mesh1: &TriMesh,
+    motion1: &Motion,
+    mesh2: &TriMesh,
+    motion2: &Motion,
+) -> f64 {
     let reach = |m: &Motion| {
         m.start()
             .translation

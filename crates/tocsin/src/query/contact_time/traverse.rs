@@ -475,8 +475,9 @@ impl<'a> StepSearch<'a> {
         let ended = g.run_to(&rot12, trans12, CONVEX_STEP_REL, 4.0 * self.delta)?;
         let (gap, normal) = ended.coarse();
         let rounding = gjk::ROUNDING * ended.scale;
-        // Near `delta` (or within rounding of `delta / 2`, where a tolerance of 1e-300 would
-        // shrink the steps forever) the certified separation decides.
+        // Near the contact distance (`delta`, or the distances' accuracy where that is more),
+        // or within rounding of `delta / 2` (where a tolerance of 1e-300 would shrink the
+        // steps forever), the certified separation decides.
         if gap - rounding <= self.contact || gap - rounding - 0.5 * self.delta <= rounding {
             let s = g.certify(&ended, &rot12, trans12)?;
             return self.convex_step(&s);

@@ -67,9 +67,8 @@ pub(crate) fn distance_accuracy(
     (mesh1, pose1): (&crate::TriMesh, &crate::Pose),
     (mesh2, pose2): (&crate::TriMesh, &crate::Pose),
 ) -> f64 {
-    let scale = mesh1.bounding_radius()
-        + mesh2.bounding_radius()
-        + pose1.translation.length()
-        + pose2.translation.length();
-    crate::query::contact_time::DISTANCE_RESOLUTION * scale
+    use crate::motion::Motion;
+    use crate::query::contact_time::{scene_scale, DISTANCE_RESOLUTION};
+    let (still1, still2) = (Motion::stationary(*pose1), Motion::stationary(*pose2));
+    DISTANCE_RESOLUTION * scene_scale(mesh1, &still1, mesh2, &still2)
 }
