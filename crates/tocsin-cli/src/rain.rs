@@ -650,8 +650,8 @@ fn step_once(
             let points = manifold(a, b, c.contact.normal, witness(c));
             let pair = (c.body1.checked_sub(first), c.body2.checked_sub(first));
             if c.contact.distance < ROCKING * TOLERANCE && points.len() <= 2 {
-                // Closer than a contact is ever reported, on a one- or two-point manifold: the pair
-                // came back after its impulses (module docs); its bodies stop turning.
+                // Closer than a contact is ever reported, on a one- or two-point manifold: the
+                // pair came back after its impulses (module docs); its bodies stop turning.
                 for k in pair.0.into_iter().chain(pair.1) {
                     if bodies[k].w != Vec3::ZERO {
                         bodies[k].w = Vec3::ZERO;
