@@ -128,3 +128,93 @@ fn binary_stl_whose_header_says_solid_is_read_as_binary() {
     assert_eq!(m.num_triangles(), 2);
     assert!((0..2).any(|i| m.triangle(i).iter().all(|v| v.z == 2.0)));
 }
+
+/// A binary PLY of `vertices` and triangles, with `extra` header lines before `end_header`.
+fn binary_ply(vertices: &[[f64; 3]], faces: &[[u32; 3]], extra: &str) -> Vec<u8> {
+    let mut bytes = format!(
+        "ply\nformat binary_little_endian 1.0\nelement vertex {}\nproperty double x\n\
+         property double y\nproperty double z\nelement face {}\n\
+         property list uchar uint vertex_indices\n{extra}end_header\n",
+        vertices.len(),
+        faces.len()
+    )
+    .into_bytes();
+    for v in vertices {
+        bytes.extend(v.map(f64::to_le_bytes).concat());
+    }
+    for f in faces {
+        bytes.push(3);
+        bytes.extend(f.map(u32::to_le_bytes).concat());
+    }
+    bytes
+}
+
+/// A binary PLY whose header declares more elements than its payload can hold is refused before
+/// it is read. The first case, found by mutating files in the forty-first session, is an
+/// element of no properties (its `property` line lost) with a count of 2^32 - 1: such elements
+/// take no bytes, so the reader made four billion of them and filled memory until the process
+/// was killed.
+#[test]
+fn binary_ply_whose_header_outgrows_its_payload_is_refused() {
+    let v = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+    let good = binary_ply(&v, &[[0, 1, 2]], "");
+    // The exact size loads, and so does an element of no properties that fits (one byte each).
+    assert_eq!(
+        TriMesh::load(tmp("good.ply", &good))
+            .unwrap()
+            .num_triangles(),
+        1
+    );
+    let mut with_empty = binary_ply(&v, &[[0, 1, 2]], "element empty 3\n");
+    with_empty.extend([0u8; 3]);
+    assert_eq!(
+        TriMesh::load(tmp("empty.ply", &with_empty))
+            .unwrap()
+            .num_triangles(),
+        1
+    );
+    // The face element's `property` line lost, and with it the face's bytes.
+    let face = b"element face 1\nproperty list uchar uint vertex_indices\n";
+    let mut no_property = good[..good.len() - 13].to_vec();
+    let at = no_property
+        .windows(face.len())
+        .position(|w| w == face)
+        .unwrap();
+    no_property.splice(
+        at..at + face.len(),
+        b"element face 4294967295\n".iter().copied(),
+    );
+    // Cut inside the vertices: three of 24 bytes do not fit in the 60 left.
+    let mut cut = good.clone();
+    cut.truncate(good.len() - 13 - 12);
+    let mut lying_count = good.clone();
+    let at = lying_count
+        .windows(14)
+        .position(|w| w == b"element face 1")
+        .unwrap();
+    lying_count.splice(at..at + 14, b"element face 99999999999".iter().copied());
+    for (name, bytes, element) in [
+        ("no property", no_property, "`face`"),
+        ("cut inside the vertices", cut, "`vertex`"),
+        ("a count beyond the file", lying_count, "`face`"),
+        (
+            "an empty element beyond the file",
+            binary_ply(&v, &[[0, 1, 2]], "element empty 4000000000\n"),
+            "`empty`",
+        ),
+    ] {
+        match TriMesh::load(tmp("outgrown.ply", &bytes)) {
+            Err(MeshError::Parse {
+                format: "PLY",
+                message,
+                ..
+            }) => {
+                assert!(
+                    message.contains(element) && message.contains("bytes after the header"),
+                    "{name}: {message}"
+                )
+            }
+            other => panic!("{name}: {other:?}"),
+        }
+    }
+}

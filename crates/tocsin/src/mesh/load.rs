@@ -10,6 +10,12 @@
 //!   (CAD exporters write it for degenerate facets; normals are ignored anyway) and kept only
 //!   the first `solid` of a file with several. All solids are kept; coordinates are read as
 //!   `f64`; identical vertices are merged, as stl_io does for binary files.
+//! - A binary PLY's header is checked against the payload's length before ply-rs-bw reads it:
+//!   the reader takes each element's count from the header and reads element after element,
+//!   and an element of no properties takes no bytes, so a corrupted header (`element face
+//!   4294967295` with its `property` line lost) filled memory until the process was killed
+//!   (found by mutating files, forty-first session). Each element must fit in what follows the
+//!   header, counted as at least one byte (as an ASCII element takes at least a line).
 
 use std::io::Cursor;
 use std::path::Path;
@@ -261,9 +267,57 @@ fn read_ascii_stl(bytes: &[u8]) -> Result<Raw, (Option<usize>, String)> {
     Ok((vertices, triangles))
 }
 
+/// Checks that a binary PLY's payload can hold the elements its header declares (module docs):
+/// the sum over elements of count times the smallest size of one (its scalar properties and
+/// its lists' counts, at least one byte) is at most the bytes after `end_header`.
+fn check_ply_payload(
+    parser: &ply_rs_bw::parser::Parser<ply_rs_bw::ply::DefaultElement>,
+    bytes: &[u8],
+) -> Result<(), String> {
+    use ply_rs_bw::ply::{Encoding, PropertyType, ScalarType};
+    let mut cursor = Cursor::new(bytes);
+    let header = parser
+        .read_header(&mut ply_rs_bw::parser::Reader::new(&mut cursor))
+        .map_err(|e| e.to_string())?;
+    if header.encoding == Encoding::Ascii {
+        return Ok(());
+    }
+    let size = |s: &ScalarType| -> u128 {
+        match s {
+            ScalarType::Char | ScalarType::UChar => 1,
+            ScalarType::Short | ScalarType::UShort => 2,
+            ScalarType::Int | ScalarType::UInt | ScalarType::Float => 4,
+            ScalarType::Double => 8,
+        }
+    };
+    let available = bytes.len() as u128 - u128::from(cursor.position());
+    let mut needed = 0u128;
+    for e in header.elements.values() {
+        let one: u128 = e
+            .properties
+            .values()
+            .map(|p| match &p.data_type {
+                PropertyType::Scalar(s) | PropertyType::List(s, _) => size(s),
+            })
+            .sum();
+        needed += one.max(1) * e.count as u128;
+        if needed > available {
+            return Err(format!(
+                "the header declares {} `{}` elements of at least {} bytes each, more than the \
+                 {available} bytes after the header",
+                e.count,
+                e.name,
+                one.max(1)
+            ));
+        }
+    }
+    Ok(())
+}
+
 fn read_ply(bytes: &[u8]) -> Result<Raw, String> {
     use ply_rs_bw::ply::{DefaultElement, Property};
     let parser = ply_rs_bw::parser::Parser::<DefaultElement>::new();
+    check_ply_payload(&parser, bytes)?;
     let ply = parser
         .read_ply(&mut Cursor::new(bytes))
         .map_err(|e| e.to_string())?;
