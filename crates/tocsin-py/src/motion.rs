@@ -153,7 +153,7 @@ pub(crate) fn orthonormalize<'py>(
         return Err(error(
             py,
             "OptionsError",
-            format!("max_error must be finite and non-negative, got {max_error}"),
+            format!("max_error must be finite and non-negative, got {max_error:?}"),
         ));
     }
     let m = matrix4_from(pose, "pose")?;

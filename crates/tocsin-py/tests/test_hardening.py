@@ -340,3 +340,29 @@ def test_query_points_and_huge_counts_are_options_errors():
     for huge in (2**70, 2**200):
         with pytest.raises(tocsin.OptionsError, match="at most"):
             tocsin.time_of_contact(knot, motion, knot, still, max_iterations=huge)
+
+
+def test_huge_values_in_messages_are_written_with_an_exponent():
+    # A configuration of 1e300 was reported as a 301-digit number, as were a tolerance of
+    # -1e300 and a generator size of -1e300.
+    import os
+
+    import pybullet_data
+
+    knot = tocsin.Mesh.torus_knot(60, 6)
+    motion, still = tocsin.Motion.translation(np.eye(4), np.eye(4)), tocsin.Motion.stationary(np.eye(4))
+    robot = tocsin.Robot.from_urdf(os.path.join(pybullet_data.getDataPath(), "franka_panda/panda.urdf"))
+    world = tocsin.World()
+    world.add_body(knot, motion)
+    calls = [
+        (tocsin.OptionsError, lambda: tocsin.time_of_contact(knot, motion, knot, still, tolerance=-1e300)),
+        (tocsin.OptionsError, lambda: world.earliest_contact(tolerance=-1e300)),
+        (tocsin.OptionsError, lambda: tocsin.orthonormalize(np.eye(4), max_error=-1e300)),
+        (tocsin.MeshError, lambda: tocsin.Mesh.sphere(-1e300, 8, 8)),
+        (tocsin.ConfigurationError, lambda: robot.in_collision(np.full(robot.dof, 1e300))),
+    ]
+    for cls, call in calls:
+        with pytest.raises(cls) as info:
+            call()
+        message = str(info.value)
+        assert "1e300" in message and not any(len(w) > 30 for w in message.split()), message

@@ -95,7 +95,7 @@ pub enum MeshError {
         path: PathBuf,
     },
     /// A generator's size parameter (a radius, a length) is not positive and finite.
-    #[error("{name} must be positive and finite, got {value}")]
+    #[error("{name} must be positive and finite, got {value:?}")]
     BadSize {
         /// The parameter.
         name: &'static str,
@@ -151,7 +151,7 @@ pub enum PoseError {
 #[non_exhaustive]
 pub enum OptionsError {
     /// A tolerance or bound is negative, NaN or infinite.
-    #[error("option `{name}` must be finite and non-negative, got {value}")]
+    #[error("option `{name}` must be finite and non-negative, got {value:?}")]
     Invalid {
         /// The option's name.
         name: &'static str,
@@ -159,7 +159,7 @@ pub enum OptionsError {
         value: f64,
     },
     /// An option is out of its range (the message says which range).
-    #[error("option `{name}` {requirement}, got {value}")]
+    #[error("option `{name}` {requirement}, got {value:?}")]
     OutOfRange {
         /// The option's name.
         name: &'static str,

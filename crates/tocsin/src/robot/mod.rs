@@ -442,7 +442,7 @@ impl Robot {
             return Err(RobotError::Configuration {
                 which: which.to_string(),
                 message: format!(
-                    "joint {} ({}) is {} (must be finite, magnitude at most 1e12)",
+                    "joint {} ({}) is {:?} (must be finite, magnitude at most 1e12)",
                     i, self.dof_names[i], q[i]
                 ),
             });
