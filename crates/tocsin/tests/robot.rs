@@ -92,6 +92,14 @@ fn package_and_relative_paths_resolve_and_errors_say_what_was_tried() {
         other => panic!("expected a missing mesh, got {other}"),
     }
     assert!(err.to_string().contains("not found"));
+    // From a string with no directory at all, a package mesh has nowhere to be looked for, and
+    // the message says what to give (it listed nothing: "tried: ").
+    let err = Robot::from_urdf_str(&xml, None, &[]).unwrap_err();
+    assert!(
+        err.to_string()
+            .contains("tried: nowhere: give `package_dirs`"),
+        "{err}"
+    );
 }
 
 #[test]

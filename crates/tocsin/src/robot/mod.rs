@@ -208,7 +208,8 @@ impl Robot {
     /// `package://name/rest` filename is looked for as `dir/name/rest` and, when `dir` is itself
     /// named `name`, as `dir/rest`, for each `dir` in `package_dirs`, then `base_dir` and each
     /// of its ancestors (the ROS layout), then as `base_dir/rest` (pybullet's convention). The
-    /// error lists every path tried.
+    /// error lists every path tried (or says there was nowhere to look: a package mesh with
+    /// neither `base_dir` nor `package_dirs`).
     ///
     /// # Errors
     /// As [`Robot::from_urdf_file`].

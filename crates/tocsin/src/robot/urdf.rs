@@ -496,9 +496,16 @@ fn resolve(
         }
         tried.push(c.display().to_string());
     }
+    let tried = if tried.is_empty() {
+        // A `package://` name from a string with neither a base directory nor package
+        // directories has nowhere to be looked for: say so rather than list nothing.
+        "nowhere: give `package_dirs` or a base directory".to_string()
+    } else {
+        tried.join(", ")
+    };
     Err(RobotError::MissingMesh {
         link: link.to_string(),
         filename: filename.to_string(),
-        tried: tried.join(", "),
+        tried,
     })
 }
