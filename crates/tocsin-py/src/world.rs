@@ -349,12 +349,16 @@ impl World {
 pub(crate) fn _world_from_parts(
     py: Python<'_>,
     meshes: Vec<Bound<'_, Mesh>>,
-    bodies: Vec<(usize, Bound<'_, Motion>, bool)>,
+    bodies: Vec<(Bound<'_, PyAny>, Bound<'_, Motion>, bool)>,
 ) -> PyResult<World> {
     let mut w = core::World::new();
     for (k, motion, fixed) in bodies {
-        let mesh = meshes
-            .get(k)
+        // The index is read here rather than as a `usize` argument, so that a corrupted
+        // pickle's negative or huge index is this error and not an OverflowError.
+        let mesh = k
+            .extract::<usize>()
+            .ok()
+            .and_then(|k| meshes.get(k))
             .ok_or_else(|| error(py, "WorldError", "a pickled world names a mesh it lacks"))?;
         let inner = mesh.borrow().inner.clone();
         let m = motion.borrow().inner;

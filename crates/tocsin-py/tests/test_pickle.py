@@ -127,3 +127,17 @@ def test_worlds_round_trip_exactly():
     b = [(c.body1, c.body2, c.time, c.contact.distance) for c in copy.first_contacts()]
     assert a == b and len(a) > 3
     assert copy.is_static(0) and not copy.is_static(1)
+
+
+def test_a_corrupted_world_pickle_is_a_world_error():
+    # A negative or huge mesh index in a pickled world raised OverflowError from the argument
+    # conversion, not the package's error.
+    box = tocsin.Mesh.box([0.5, 0.5, 0.5])
+    world = tocsin.World()
+    world.add_body(box, tocsin.Motion.translation(np.eye(4), np.eye(4)))
+    build, (meshes, bodies) = world.__reduce__()
+    for index in (-1, 2**64, 1, "0"):
+        corrupted = [(index,) + tuple(bodies[0][1:])]
+        with pytest.raises(tocsin.WorldError, match="names a mesh it lacks"):
+            build(meshes, corrupted)
+    assert len(build(meshes, bodies)) == 1
