@@ -351,6 +351,83 @@ fn convex_bodies_against_sampling_and_the_general_path() {
     );
 }
 
+/// A coarse sphere or capsule under a random stretch, its corners moved along their radius by
+/// up to 0.3%: every corner on the hull, about half of the quads folded the wrong way (convex
+/// but for its triangulation, as robot collision meshes are), so that its time of contact
+/// takes the hulls' steps.
+fn dented(rng: &mut impl Rng) -> TriMesh {
+    let base = match rng.random_range(0..2) {
+        0 => mesh::sphere(0.6, rng.random_range(5..9), rng.random_range(8..14)).unwrap(),
+        _ => mesh::capsule(0.3, 0.8).unwrap(),
+    };
+    let stretch = Vec3::new(
+        rng.random_range(0.6..1.4),
+        rng.random_range(0.6..1.4),
+        rng.random_range(0.6..1.4),
+    );
+    let vertices = base
+        .vertices()
+        .iter()
+        .map(|p| *p * stretch * (1.0 + rng.random_range(-0.003..0.003)))
+        .collect();
+    TriMesh::new(vertices, base.triangles().to_vec()).unwrap()
+}
+
+/// Meshes convex but for their triangulation, against each other and against convex ones
+/// (a robot link beside a box): passes, grazes and near misses of every motion kind, one or
+/// both bodies moving, against sampling. Their steps come from the hulls' direction with the
+/// gap measured on the meshes (`traverse::StepSearch::hull_step`).
+#[test]
+fn nearly_convex_bodies_against_sampling() {
+    let mut rng = rng(78);
+    let (mut hits, mut total) = (0, 0);
+    for case in 0..90 {
+        let m1 = dented(&mut rng);
+        let m2 = if case % 3 == 2 {
+            random_convex(&mut rng)
+        } else {
+            dented(&mut rng)
+        };
+        let kind = case % 3;
+        let dir = random_unit(&mut rng);
+        let off = random_unit(&mut rng).cross(dir) * rng.random_range(0.0..1.4);
+        let s1 = Pose {
+            rotation: random_rotation(&mut rng),
+            translation: -3.0 * dir + off,
+        };
+        let e1 = Pose {
+            rotation: random_rotation(&mut rng),
+            translation: 3.0 * dir + off,
+        };
+        let mo1 = random_motion(&mut rng, kind, s1, e1);
+        let s2 = random_pose(&mut rng, 0.2);
+        let mo2 = if case % 2 == 0 {
+            let e2 = Pose {
+                rotation: random_rotation(&mut rng),
+                translation: s2.translation - dir * 0.5,
+            };
+            random_motion(&mut rng, kind, s2, e2)
+        } else {
+            Motion::stationary(s2)
+        };
+        let tol = [None, Some(1e-3)][case % 2];
+        let hit = check(
+            &m1,
+            &mo1,
+            &m2,
+            &mo2,
+            tol,
+            &format!("dented case {case} kind {kind}"),
+        );
+        hits += usize::from(hit);
+        total += 1;
+    }
+    assert!(
+        hits > 20 && hits < total - 20,
+        "the sample should mix contacts and misses: {hits}/{total}"
+    );
+}
+
 /// A turning pass of motion kind `kind` along a random direction, from 12 units before the
 /// origin to `reach` units past it and up to `spread` off the line.
 fn random_pass(rng: &mut impl Rng, kind: usize, reach: f64, spread: f64) -> Motion {

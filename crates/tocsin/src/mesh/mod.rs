@@ -34,6 +34,9 @@ pub struct TriMesh {
     /// Balls inside the mesh when it is one closed surface (empty otherwise), found on first
     /// use.
     balls: std::sync::OnceLock<Vec<crate::query::penetration::balls::Ball>>,
+    /// The convex hull of the corners, as a convex mesh whose polytope climbs, made on first
+    /// use ([`TriMesh::hull`]).
+    hull: std::sync::OnceLock<Option<Box<TriMesh>>>,
 }
 
 /// Leaf positions sharing a vertex with each leaf: `list[offsets[i]..offsets[i + 1]]`.
@@ -69,6 +72,7 @@ impl TriMesh {
             polytope: std::sync::OnceLock::new(),
             neighbours: std::sync::OnceLock::new(),
             balls: std::sync::OnceLock::new(),
+            hull: std::sync::OnceLock::new(),
         })
     }
 
@@ -92,6 +96,7 @@ impl TriMesh {
             polytope: std::sync::OnceLock::new(),
             neighbours: std::sync::OnceLock::new(),
             balls: std::sync::OnceLock::new(),
+            hull: std::sync::OnceLock::new(),
         })
     }
 
@@ -131,6 +136,37 @@ impl TriMesh {
     /// path too.
     pub fn is_convex(&self) -> bool {
         self.convex_polytope().is_some_and(|p| p.climbs())
+    }
+
+    /// A convex polytope holding the mesh, for the time of contact's hull steps: the mesh's own
+    /// when it is convex, else the convex hull of its corners ([`Self::hull`]); `None` for a
+    /// mesh of more than [`crate::query::distance::GJK_MAX_VERTICES`] corners (the convexity
+    /// test and the hull are made on first use, and cost about as much as building the mesh)
+    /// or whose hull could not be made.
+    pub(crate) fn outer_polytope(
+        &self,
+    ) -> Option<(&TriMesh, &crate::query::penetration::convex::Polytope)> {
+        if self.num_vertices() > crate::query::distance::GJK_MAX_VERTICES {
+            return None;
+        }
+        if let Some(p) = self.convex_polytope().filter(|p| p.climbs()) {
+            return Some((self, p));
+        }
+        let hull = self.hull()?;
+        Some((hull, hull.convex_polytope()?))
+    }
+
+    /// The convex hull of the corners the triangles use, as a closed convex mesh whose
+    /// polytope climbs (parry3d-f64's quickhull; the hull's corners are the mesh's own, to the
+    /// bit), made on first use and kept. `None` for a flat or degenerate set of corners, a
+    /// mesh far from convex (fewer than nine in ten of its corners on the hull), or a hull that
+    /// fails the strict convexity test. Nothing relies on the hull holding every
+    /// corner: it only proposes a direction, and the gap along it is measured on the mesh
+    /// ([`crate::bvh::Bvh::support`]).
+    pub(crate) fn hull(&self) -> Option<&TriMesh> {
+        self.hull
+            .get_or_init(|| hull_of(self).map(Box::new))
+            .as_deref()
     }
 
     /// Whether the convex polytope test has been made (by an earlier query).
@@ -319,6 +355,43 @@ fn validate(
     Ok(())
 }
 
+/// The share of a mesh's corners its hull must keep for the mesh to have one
+/// ([`TriMesh::hull`]): a mesh convex but for its triangulation (robot collision meshes such
+/// as pybullet's Panda and MotionBenchMaker's Fetch keep all of them) is as near its hull as
+/// the hull's step needs; one far from convex (MotionBenchMaker's UR5 links keep 30 to 50%)
+/// would pay for GJK on a hull whose gap is not the mesh's (docs/BENCHMARKS.md,
+/// forty-first session).
+const HULL_CORNERS: f64 = 0.9;
+
+/// The hull of [`TriMesh::hull`].
+fn hull_of(mesh: &TriMesh) -> Option<TriMesh> {
+    use parry3d_f64::math::Vector3;
+    let mut used = vec![false; mesh.num_vertices()];
+    for t in mesh.triangles() {
+        t.iter().for_each(|&i| used[i as usize] = true);
+    }
+    let points: Vec<Vector3> = mesh
+        .vertices()
+        .iter()
+        .zip(&used)
+        .filter(|(_, &u)| u)
+        .map(|(v, _)| Vector3::new(v.x, v.y, v.z))
+        .collect();
+    // The crate's errors are values; a panic on input it does not foresee is caught, and the
+    // mesh is then without a hull.
+    let hull = std::panic::catch_unwind(|| parry3d_f64::transformation::try_convex_hull(&points));
+    let (corners, triangles) = hull.ok()?.ok()?;
+    if (corners.len() as f64) < HULL_CORNERS * points.len() as f64 {
+        return None;
+    }
+    let corners: Vec<Vec3> = corners.iter().map(|c| Vec3::new(c.x, c.y, c.z)).collect();
+    let hull = TriMesh::new(corners, triangles).ok()?;
+    hull.convex_polytope()
+        .filter(|p| p.climbs())
+        .is_some()
+        .then_some(hull)
+}
+
 #[cfg(test)]
 mod neighbour_tests {
     use super::*;
@@ -366,5 +439,72 @@ mod neighbour_tests {
             assert!(m.leaf_neighbours().of(n).is_empty());
         }
         assert!(entries > 1000, "{entries} neighbour entries");
+    }
+}
+
+#[cfg(test)]
+pub(crate) mod hull_tests {
+    use super::*;
+    use rand::{Rng, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
+
+    /// A coarse sphere whose corners are moved along their radius by up to 0.3%: every corner
+    /// stays on the hull, but about half of the quads fold the wrong way (a mesh convex but for
+    /// its triangulation, as robot collision meshes are).
+    pub(crate) fn dented_sphere(seed: u64) -> TriMesh {
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        let s = crate::mesh::sphere(1.0, 8, 12).expect("sphere");
+        let v = s
+            .vertices()
+            .iter()
+            .map(|p| *p * (1.0 + rng.random_range(-0.003..0.003)))
+            .collect();
+        TriMesh::new(v, s.triangles().to_vec()).expect("dented")
+    }
+
+    /// The hull's corners are the mesh's own to the bit, every corner of the mesh lies behind
+    /// every face of the hull (to the strict convexity test's allowance), a convex mesh is its
+    /// own outer polytope, and a knot (few corners on its hull) has none.
+    #[test]
+    fn hull_holds_the_corners_and_keeps_them_exact() {
+        for seed in 0..6 {
+            let m = dented_sphere(seed);
+            assert!(
+                m.convex_polytope().filter(|p| p.climbs()).is_none(),
+                "seed {seed}: the dents should make the sphere non-convex"
+            );
+            let hull = m.hull().expect("a hull");
+            let (outer, _) = m.outer_polytope().expect("an outer polytope");
+            assert!(std::ptr::eq(outer, hull));
+            for c in hull.vertices() {
+                assert!(
+                    m.vertices().contains(c),
+                    "seed {seed}: corner {c} is not the mesh's"
+                );
+            }
+            let allowance = crate::query::penetration::convex::STRICT * m.bounding_radius();
+            for t in hull.triangles() {
+                let [a, b, c] = t.map(|i| hull.vertices()[i as usize]);
+                let n = (b - a).cross(c - a).normalize();
+                // Outward: the hull's centroid is behind it.
+                let centre =
+                    hull.vertices().iter().copied().sum::<Vec3>() / hull.num_vertices() as f64;
+                let n = if n.dot(centre - a) > 0.0 { -n } else { n };
+                let beyond = m
+                    .vertices()
+                    .iter()
+                    .map(|p| n.dot(*p - a))
+                    .fold(f64::NEG_INFINITY, f64::max);
+                assert!(
+                    beyond <= allowance,
+                    "seed {seed}: a corner {beyond} beyond a face"
+                );
+            }
+        }
+        let cube = crate::mesh::box_mesh(Vec3::new(0.5, 0.2, 0.3)).expect("box");
+        let (outer, _) = cube.outer_polytope().expect("a convex mesh is its own");
+        assert!(std::ptr::eq(outer, &cube));
+        let knot = crate::mesh::torus_knot(40, 6).expect("knot");
+        assert!(knot.hull().is_none() && knot.outer_polytope().is_none());
     }
 }

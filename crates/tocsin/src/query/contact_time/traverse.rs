@@ -34,6 +34,23 @@ const LARGE_PROJECT_RATIO: usize = 4;
 /// (docs/BENCHMARKS.md, thirty-ninth session).
 const CONVEX_STEP_REL: f64 = 0.1;
 
+/// Node pairs a traversal visits before it asks the hulls for their step
+/// ([`StepSearch::hull_step`]): an iteration that certifies its window sooner (most far from
+/// contact) never pays for GJK. Measured on MotionBenchMaker's Fetch (`bench/robot_mbm.py`,
+/// docs/BENCHMARKS.md, forty-first session): asking at the first pair made free edges 15 to
+/// 25% slower than asking after three; after 8 or 24 they were no faster than after three.
+const HULL_AFTER: usize = 3;
+
+/// The traversal stops at the hulls' step once its best is within `1 + HULL_EXIT * slack` of
+/// it. Measured as for [`HULL_AFTER`]: stopping only where the hulls' step is already the
+/// best (0) made free edges slower than without hulls; 1 and 2 were alike, 2 a little faster
+/// at the 90th percentile.
+const HULL_EXIT: f64 = 2.0;
+
+/// A traversal whose step is more than this many times the hulls' drops them for the rest of
+/// the query.
+const HULL_LOOSE: f64 = 2.0;
+
 /// What one iteration found.
 pub(crate) enum StepOutcome {
     /// A triangle pair (leaf positions) is within the tolerance at the current time; with the
@@ -95,6 +112,16 @@ pub(crate) struct StepSearch<'a> {
     /// GJK on the two meshes when both are convex polytopes ([`crate::query::distance::gjk`]):
     /// the two whole bodies' separation certifies the step before any traversal.
     convex: Option<Gjk<'a>>,
+    /// GJK on convex polytopes holding the two meshes where they are not both convex (a hull
+    /// of each non-convex one: [`TriMesh::outer_polytope`]). Each iteration, the direction
+    /// that separates the hulls, with the gap along it measured on the meshes themselves,
+    /// certifies a step for every triangle pair ([`Self::hull_step`]); dropped for the rest of
+    /// the query once the hulls overlap.
+    hull: Option<Gjk<'a>>,
+    /// This iteration's step certified by the hulls' direction (0 without one): a step the
+    /// traversal may stop at as soon as its best is within the slack of it, and a floor under
+    /// the step it returns.
+    hull_floor: f64,
     /// The current time.
     t: f64,
     /// Projections of subtree pairs above [`PROJECT_MAX`] made, and how many pruned their pair
@@ -277,6 +304,14 @@ impl<'a> StepSearch<'a> {
             }
             _ => None,
         };
+        let convex = gjk::polytopes(mesh1, mesh2)
+            .map(|(p1, p2)| Gjk::new(mesh1, p1, mesh2, p2, None, simplex));
+        let hull = match (&convex, mesh1.outer_polytope(), mesh2.outer_polytope()) {
+            (None, Some((h1, p1)), Some((h2, p2))) => {
+                Some(Gjk::new(h1, p1, h2, p2, None, WarmSimplex::default()))
+            }
+            _ => None,
+        };
         Self {
             bvh1: mesh1.bvh(),
             bvh2: mesh2.bvh(),
@@ -302,8 +337,9 @@ impl<'a> StepSearch<'a> {
             stack: Vec::with_capacity(64),
             shells,
             shells_on: false,
-            convex: gjk::polytopes(mesh1, mesh2)
-                .map(|(p1, p2)| Gjk::new(mesh1, p1, mesh2, p2, None, simplex)),
+            convex,
+            hull,
+            hull_floor: 0.0,
             t: 0.0,
             large_projections: (0, 0),
         }
@@ -502,6 +538,35 @@ impl<'a> StepSearch<'a> {
         self.step(gap, n, &s1, &s2)
     }
 
+    /// The step certified by the hulls ([`Self::hull`]) and the gap it comes from: GJK's
+    /// direction `n` between the hulls (roughly converged, as far from contact), and the gap
+    /// along `n` between the meshes' own farthest corners ([`crate::bvh::Bvh::support`]), less
+    /// GJK's rounding allowance. That gap separates every corner of mesh 1 from every corner of
+    /// mesh 2, so every triangle pair, whatever the hulls are: the hull only proposes the
+    /// direction. The step is then the whole bodies' ([`Self::whole_bodies_step`]). `(0, 0)`
+    /// where there is none; the hulls overlapping drops them for the rest of the query.
+    fn hull_step(&mut self) -> (f64, f64) {
+        let (rot12, trans12, rot21) = (self.rot12, self.trans12, self.rot21);
+        let Some(g) = self.hull.as_mut() else {
+            return (0.0, 0.0);
+        };
+        let Some(ended) = g.run_to(&rot12, trans12, CONVEX_STEP_REL, 4.0 * self.delta) else {
+            self.hull = None;
+            return (0.0, 0.0);
+        };
+        let (_, n) = ended.coarse();
+        let (Some(c1), Some(c2)) = (self.bvh1.support(n), self.bvh2.support(rot21 * -n)) else {
+            return (0.0, 0.0);
+        };
+        let gap = (rot12 * c2 + trans12).dot(n) - c1.dot(n) - gjk::ROUNDING * ended.scale;
+        if gap <= 0.5 * self.delta {
+            // Within the tolerance along the hulls' direction: the traversal decides from here.
+            self.hull = None;
+            return (0.0, 0.0);
+        }
+        (self.whole_bodies_step(gap, n), gap)
+    }
+
     /// The iteration's outcome from the separation of two convex solids, without a traversal
     /// (`None` where the traversal must decide: the gap is within rounding of `delta / 2`
     /// while the witness pair is not within `delta`). The slab between the solids, of width
@@ -541,17 +606,9 @@ impl<'a> StepSearch<'a> {
         })
     }
 
-    /// One iteration at time `t`, with bounds valid over `[t, t + window]` (the step never
-    /// exceeds `window`); `slack` trades step length for fewer visited pairs. Not inlined:
-    /// inlined into the advancement loop it compiled to 6% more instructions (knot2.8k).
-    #[inline(never)]
-    pub(crate) fn run(
-        &mut self,
-        t: f64,
-        window: f64,
-        slack: f64,
-        warm: Option<(u32, u32)>,
-    ) -> StepOutcome {
+    /// Sets an iteration's state: the relative pose and the motions' bounds at time `t`,
+    /// valid over `[t, t + window]`, and an empty search.
+    fn begin(&mut self, t: f64, window: f64, slack: f64) {
         let ((pose1, bound1), (pose2, bound2)) = (
             BodyKinematics::at(self.motion1, t),
             BodyKinematics::at(self.motion2, t),
@@ -575,6 +632,21 @@ impl<'a> StepSearch<'a> {
         self.pruned = f64::INFINITY;
         self.best_pair = None;
         self.closest = f64::INFINITY;
+        self.hull_floor = 0.0;
+    }
+
+    /// One iteration at time `t`, with bounds valid over `[t, t + window]` (the step never
+    /// exceeds `window`); `slack` trades step length for fewer visited pairs. Not inlined:
+    /// inlined into the advancement loop it compiled to 6% more instructions (knot2.8k).
+    #[inline(never)]
+    pub(crate) fn run(
+        &mut self,
+        t: f64,
+        window: f64,
+        slack: f64,
+        warm: Option<(u32, u32)>,
+    ) -> StepOutcome {
+        self.begin(t, window, slack);
         if let Some(out) = self.convex_iteration() {
             return out;
         }
@@ -599,7 +671,32 @@ impl<'a> StepSearch<'a> {
         let root = RelativeRss::new(&nodes1[0].rss, &nodes2[0].rss, &self.rot12, self.trans12);
         self.stack.clear();
         self.stack.push((0, 0, self.node_step(0, 0, &root)));
+        let mut pops = 0usize;
         while let Some((n1, n2, s)) = self.stack.pop() {
+            pops += 1;
+            // A traversal that has not ended after a few pairs asks the hulls for their step
+            // (most iterations far from contact end sooner, and would only pay for GJK).
+            if pops == HULL_AFTER && self.hull.is_some() {
+                let (step, gap) = self.hull_step();
+                if step >= self.window {
+                    return StepOutcome::Step {
+                        dt: self.window,
+                        pair: self.best_pair,
+                        distance: gap.min(self.closest),
+                    };
+                }
+                self.hull_floor = step;
+            }
+            // The hulls' step is within twice the slack of the best: take it. It is safe for
+            // every pair; the rest of the traversal could lengthen the step by at most that
+            // much, and costs more than the iterations a shorter step adds (HULL_EXIT).
+            if self.best <= (1.0 + HULL_EXIT * self.slack) * self.hull_floor {
+                return StepOutcome::Step {
+                    dt: self.hull_floor,
+                    pair: self.best_pair,
+                    distance: self.closest,
+                };
+            }
             if s * (1.0 + self.slack) >= self.best {
                 self.pruned = self.pruned.min(s);
                 continue;
@@ -661,8 +758,19 @@ impl<'a> StepSearch<'a> {
         if let (Some(_), Some((l1, l2)), false) = (&self.shells, self.best_pair, self.shells_on) {
             self.shells_on = self.rotation_limited(l1, l2);
         }
+        // Both the traversal's step and the hulls' are safe for every pair: the longer is.
+        let dt = self
+            .best
+            .min(self.pruned)
+            .min(self.window)
+            .max(self.hull_floor);
+        if self.hull_floor > 0.0 && dt > HULL_LOOSE * self.hull_floor {
+            // The hulls are loose here (a mesh far from convex where they face): GJK would
+            // only cost from now on.
+            self.hull = None;
+        }
         StepOutcome::Step {
-            dt: self.best.min(self.pruned).min(self.window),
+            dt,
             pair: self.best_pair,
             distance: self.closest,
         }
@@ -927,5 +1035,79 @@ mod tests {
             }
         }
         assert_eq!(checked, 18_000);
+    }
+
+    /// The hulls' step between two spheres convex but for their triangulation: its gap is a
+    /// lower bound of the meshes' distance and within 10% of it (GJK stops once its gap is
+    /// within [`CONVEX_STEP_REL`] of its bound, far from contact), and over
+    /// the step no pair comes within `delta / 2` (sampled), on passes of every motion kind.
+    #[test]
+    fn the_hulls_step_is_safe_and_tight() {
+        use crate::mesh::hull_tests::dented_sphere;
+        use crate::query::distance::{distance, DistanceOptions};
+        let (a, b) = (dented_sphere(1), dented_sphere(2));
+        let mut rng = ChaCha8Rng::seed_from_u64(43);
+        let delta = 1e-3;
+        let mut steps = 0;
+        for case in 0..60 {
+            let dir = unit(&mut rng);
+            let turn = |rng: &mut ChaCha8Rng, at: Vec3| {
+                Pose::from_axis_angle(unit(rng), rng.random_range(-1.0..1.0), at)
+            };
+            let start = turn(&mut rng, Vec3::ZERO);
+            let apart = rng.random_range(2.05..4.0);
+            let reach = apart * rng.random_range(0.3..1.2);
+            let end = turn(&mut rng, dir * reach);
+            let m1 = match case % 3 {
+                0 => Motion::translation(
+                    start,
+                    Pose {
+                        rotation: start.rotation,
+                        translation: end.translation,
+                    },
+                ),
+                1 => Motion::interp(start, end, unit(&mut rng) * 0.2),
+                _ => Motion::screw(start, end),
+            }
+            .expect("motion");
+            let m2 = Motion::stationary(turn(&mut rng, dir * apart));
+            let mut search = StepSearch::new(
+                &a,
+                Path::Rigid(&m1),
+                &b,
+                Path::Rigid(&m2),
+                (delta, delta),
+                WarmSimplex::default(),
+            );
+            assert!(search.hull.is_some(), "case {case}: no hulls");
+            search.begin(0.0, 1.0, 0.1);
+            let (step, gap) = search.hull_step();
+            let at = |t: f64| {
+                distance(
+                    &a,
+                    &m1.pose_at(t),
+                    &b,
+                    &m2.pose_at(t),
+                    &DistanceOptions::default(),
+                )
+                .expect("distance")
+                .distance
+            };
+            let d = at(0.0);
+            assert!(
+                gap <= d && gap >= 0.9 * d,
+                "case {case}: gap {gap}, distance {d}"
+            );
+            assert!(step > 0.0, "case {case}: no step at distance {d}");
+            for k in 0..=100 {
+                let t = step.min(1.0) * f64::from(k) / 100.0;
+                assert!(
+                    at(t) >= 0.5 * delta,
+                    "case {case}: within delta/2 at {t} < {step}"
+                );
+            }
+            steps += 1;
+        }
+        assert_eq!(steps, 60);
     }
 }
