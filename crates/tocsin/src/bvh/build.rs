@@ -19,9 +19,9 @@ const PARALLEL_THRESHOLD: usize = 4096;
 /// Meshes of at most this many triangles (boxes, primitives, small parts: the obstacles of a
 /// robot's scene) get their rectangles turned to the best of their edge directions (see
 /// [`refine_in_plane`]).
-const REFINE_MAX: usize = 256;
+pub(super) const REFINE_MAX: usize = 256;
 
-pub(super) fn build(vertices: &[Vec3], triangles: &[[u32; 3]]) -> Bvh {
+pub(super) fn build(vertices: &[Vec3], triangles: &[[u32; 3]], refine: bool) -> Bvh {
     // The large arrays are filled in parallel: most of their cost is the kernel providing
     // fresh pages (the node array of a million triangles is 272 MB), which then happens on
     // every thread; filling them on one thread took 0.2 s of the 1M build.
@@ -45,7 +45,6 @@ pub(super) fn build(vertices: &[Vec3], triangles: &[[u32; 3]]) -> Bvh {
         .into_par_iter()
         .map(|_| placeholder)
         .collect();
-    let refine = triangles.len() <= REFINE_MAX;
     build_subtree(&mut corners, &mut ids, &mut nodes, 0, 0, refine);
     let mut corner_columns = CornerColumns::new(&corners, nodes[0].rss.center);
     if let Some(c) = corner_columns.as_mut() {

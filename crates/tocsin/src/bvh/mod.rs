@@ -144,7 +144,13 @@ impl Bvh {
     /// Builds the hierarchy top-down (principal-axis split at the mean of the centroids).
     /// `triangles` must be non-empty with indices in range (checked by `TriMesh`).
     pub(crate) fn build(vertices: &[Vec3], triangles: &[[u32; 3]]) -> Self {
-        build::build(vertices, triangles)
+        build::build(vertices, triangles, triangles.len() <= build::REFINE_MAX)
+    }
+
+    /// As [`Self::build`], without turning small meshes' rectangles to their edge directions
+    /// (for a hierarchy that is barely searched: a convex hull's, `TriMesh::hull`).
+    pub(crate) fn build_unrefined(vertices: &[Vec3], triangles: &[[u32; 3]]) -> Self {
+        build::build(vertices, triangles, false)
     }
 
     /// All nodes, root first.

@@ -64,7 +64,12 @@ impl TriMesh {
         validate(&vertices, triangles.iter().map(|t| t.map(i64::from)))?;
         reserve(vertices.len(), triangles.len())?;
         let bvh = Bvh::build(&vertices, &triangles);
-        Ok(Self {
+        Ok(Self::assemble(vertices, triangles, bvh))
+    }
+
+    /// A mesh of checked parts and their hierarchy, with nothing worked out yet.
+    fn assemble(vertices: Vec<Vec3>, triangles: Vec<[u32; 3]>, bvh: Bvh) -> Self {
+        Self {
             vertices,
             triangles,
             bvh,
@@ -73,7 +78,19 @@ impl TriMesh {
             neighbours: std::sync::OnceLock::new(),
             balls: std::sync::OnceLock::new(),
             hull: std::sync::OnceLock::new(),
-        })
+        }
+    }
+
+    /// As [`TriMesh::new`], the hierarchy built by `build`; `None` for an invalid mesh.
+    fn with_bvh(
+        vertices: Vec<Vec3>,
+        triangles: Vec<[u32; 3]>,
+        build: fn(&[Vec3], &[[u32; 3]]) -> Bvh,
+    ) -> Option<Self> {
+        validate(&vertices, triangles.iter().map(|t| t.map(i64::from))).ok()?;
+        reserve(vertices.len(), triangles.len()).ok()?;
+        let bvh = build(&vertices, &triangles);
+        Some(Self::assemble(vertices, triangles, bvh))
     }
 
     /// Builds a mesh from borrowed arrays, with signed indices so that negative indices are
@@ -88,16 +105,7 @@ impl TriMesh {
         // the data is valid: build directly rather than validate again in `new`.
         let triangles: Vec<[u32; 3]> = triangles.iter().map(|t| t.map(|i| i as u32)).collect();
         let bvh = Bvh::build(&verts, &triangles);
-        Ok(Self {
-            vertices: verts,
-            triangles,
-            bvh,
-            winding: std::sync::OnceLock::new(),
-            polytope: std::sync::OnceLock::new(),
-            neighbours: std::sync::OnceLock::new(),
-            balls: std::sync::OnceLock::new(),
-            hull: std::sync::OnceLock::new(),
-        })
+        Ok(Self::assemble(verts, triangles, bvh))
     }
 
     /// Loads a mesh from an OBJ, STL (ASCII or binary) or PLY file, chosen by extension.
@@ -141,8 +149,8 @@ impl TriMesh {
     /// A convex polytope holding the mesh, for the time of contact's hull steps: the mesh's own
     /// when it is convex, else the convex hull of its corners ([`Self::hull`]); `None` for a
     /// mesh of more than [`crate::query::distance::GJK_MAX_VERTICES`] corners (the convexity
-    /// test and the hull are made on first use, and cost about as much as building the mesh)
-    /// or whose hull could not be made.
+    /// test is made on first use, at about the cost of building the mesh), a non-convex one of
+    /// more than [`HULL_MAX_VERTICES`], or one whose hull could not be made.
     pub(crate) fn outer_polytope(
         &self,
     ) -> Option<(&TriMesh, &crate::query::penetration::convex::Polytope)> {
@@ -151,6 +159,9 @@ impl TriMesh {
         }
         if let Some(p) = self.convex_polytope().filter(|p| p.climbs()) {
             return Some((self, p));
+        }
+        if self.num_vertices() > HULL_MAX_VERTICES {
+            return None;
         }
         let hull = self.hull()?;
         Some((hull, hull.convex_polytope()?))
@@ -355,6 +366,12 @@ fn validate(
     Ok(())
 }
 
+/// Non-convex meshes with more corners than this get no hull ([`TriMesh::hull`]): the hull is
+/// made on a mesh's first time of contact, and quickhull slows on corners in awkward places (a
+/// tube's 2,304 corners on rings took 11 ms, and the hull was then refused). Robot collision
+/// meshes have a few hundred.
+pub(crate) const HULL_MAX_VERTICES: usize = 1024;
+
 /// The share of a mesh's corners its hull must keep for the mesh to have one
 /// ([`TriMesh::hull`]): a mesh convex but for its triangulation (robot collision meshes such
 /// as pybullet's Panda and MotionBenchMaker's Fetch keep all of them) is as near its hull as
@@ -385,7 +402,10 @@ fn hull_of(mesh: &TriMesh) -> Option<TriMesh> {
         return None;
     }
     let corners: Vec<Vec3> = corners.iter().map(|c| Vec3::new(c.x, c.y, c.z)).collect();
-    let hull = TriMesh::new(corners, triangles).ok()?;
+    // The hull's hierarchy is only read for its root (GJK's scale) and leaf order: it is built
+    // without the in-plane refinement that meshes of up to 256 triangles get, which took
+    // 4.6 ms of a 200-triangle hull's 5 ms.
+    let hull = TriMesh::with_bvh(corners, triangles, Bvh::build_unrefined)?;
     hull.convex_polytope()
         .filter(|p| p.climbs())
         .is_some()

@@ -51,6 +51,15 @@ const HULL_EXIT: f64 = 2.0;
 /// the query.
 const HULL_LOOSE: f64 = 2.0;
 
+/// The hulls' state in a query ([`StepSearch::hull_step`]): not yet asked for (their polytopes
+/// are made on first use, by the first traversal that needs them: a query whose traversals all
+/// end early never builds them), in use, or off for the rest of the query.
+enum Hulls<'a> {
+    Untried(&'a TriMesh, &'a TriMesh),
+    On(Gjk<'a>),
+    Off,
+}
+
 /// What one iteration found.
 pub(crate) enum StepOutcome {
     /// A triangle pair (leaf positions) is within the tolerance at the current time; with the
@@ -117,7 +126,7 @@ pub(crate) struct StepSearch<'a> {
     /// that separates the hulls, with the gap along it measured on the meshes themselves,
     /// certifies a step for every triangle pair ([`Self::hull_step`]); dropped for the rest of
     /// the query once the hulls overlap.
-    hull: Option<Gjk<'a>>,
+    hull: Hulls<'a>,
     /// This iteration's step certified by the hulls' direction (0 without one): a step the
     /// traversal may stop at as soon as its best is within the slack of it, and a floor under
     /// the step it returns.
@@ -306,11 +315,9 @@ impl<'a> StepSearch<'a> {
         };
         let convex = gjk::polytopes(mesh1, mesh2)
             .map(|(p1, p2)| Gjk::new(mesh1, p1, mesh2, p2, None, simplex));
-        let hull = match (&convex, mesh1.outer_polytope(), mesh2.outer_polytope()) {
-            (None, Some((h1, p1)), Some((h2, p2))) => {
-                Some(Gjk::new(h1, p1, h2, p2, None, WarmSimplex::default()))
-            }
-            _ => None,
+        let hull = match convex {
+            None => Hulls::Untried(mesh1, mesh2),
+            Some(_) => Hulls::Off,
         };
         Self {
             bvh1: mesh1.bvh(),
@@ -547,11 +554,19 @@ impl<'a> StepSearch<'a> {
     /// where there is none; the hulls overlapping drops them for the rest of the query.
     fn hull_step(&mut self) -> (f64, f64) {
         let (rot12, trans12, rot21) = (self.rot12, self.trans12, self.rot21);
-        let Some(g) = self.hull.as_mut() else {
+        if let Hulls::Untried(m1, m2) = self.hull {
+            self.hull = match (m1.outer_polytope(), m2.outer_polytope()) {
+                (Some((h1, p1)), Some((h2, p2))) => {
+                    Hulls::On(Gjk::new(h1, p1, h2, p2, None, WarmSimplex::default()))
+                }
+                _ => Hulls::Off,
+            };
+        }
+        let Hulls::On(g) = &mut self.hull else {
             return (0.0, 0.0);
         };
         let Some(ended) = g.run_to(&rot12, trans12, CONVEX_STEP_REL, 4.0 * self.delta) else {
-            self.hull = None;
+            self.hull = Hulls::Off;
             return (0.0, 0.0);
         };
         let (_, n) = ended.coarse();
@@ -561,7 +576,7 @@ impl<'a> StepSearch<'a> {
         let gap = (rot12 * c2 + trans12).dot(n) - c1.dot(n) - gjk::ROUNDING * ended.scale;
         if gap <= 0.5 * self.delta {
             // Within the tolerance along the hulls' direction: the traversal decides from here.
-            self.hull = None;
+            self.hull = Hulls::Off;
             return (0.0, 0.0);
         }
         (self.whole_bodies_step(gap, n), gap)
@@ -676,7 +691,7 @@ impl<'a> StepSearch<'a> {
             pops += 1;
             // A traversal that has not ended after a few pairs asks the hulls for their step
             // (most iterations far from contact end sooner, and would only pay for GJK).
-            if pops == HULL_AFTER && self.hull.is_some() {
+            if pops == HULL_AFTER && !matches!(self.hull, Hulls::Off) {
                 let (step, gap) = self.hull_step();
                 if step >= self.window {
                     return StepOutcome::Step {
@@ -767,7 +782,7 @@ impl<'a> StepSearch<'a> {
         if self.hull_floor > 0.0 && dt > HULL_LOOSE * self.hull_floor {
             // The hulls are loose here (a mesh far from convex where they face): GJK would
             // only cost from now on.
-            self.hull = None;
+            self.hull = Hulls::Off;
         }
         StepOutcome::Step {
             dt,
@@ -1079,9 +1094,9 @@ mod tests {
                 (delta, delta),
                 WarmSimplex::default(),
             );
-            assert!(search.hull.is_some(), "case {case}: no hulls");
             search.begin(0.0, 1.0, 0.1);
             let (step, gap) = search.hull_step();
+            assert!(matches!(search.hull, Hulls::On(_)), "case {case}: no hulls");
             let at = |t: f64| {
                 distance(
                     &a,
