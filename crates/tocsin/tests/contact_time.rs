@@ -901,6 +901,15 @@ fn turning_in_close_fits_against_sampling() {
         screw_in,
         capped,
     ));
+    // A 128-sided shaft half a turn in its bore, its corners 1.65 tolerances from the bore's
+    // flat faces: clear, certified by the long triangles' exact distances from the axis (6 s
+    // before, when those were the centroids' less the corners' spread).
+    cases.push((
+        "128-sided shaft in a 1.004 bore".into(),
+        tube(1.0, 4.0, 128, 2),
+        Motion::screw(Pose::IDENTITY, turn(Vec3::Z, 180.0, Vec3::ZERO)).unwrap(),
+        tube(1.004, 6.0, 128, 2),
+    ));
     let mut contacts = 0;
     for (label, turning, mo, fixed) in &cases {
         contacts += check(turning, mo, fixed, &still, None, label) as usize;
@@ -914,12 +923,13 @@ fn turning_in_close_fits_against_sampling() {
             &format!("{label}, swapped"),
         ) as usize;
     }
-    // The tight fits and the capped bore collide; the clear ones (1.02 socket, 1.1 bore) not.
-    assert!(contacts >= 2 * (cases.len() - 2), "{contacts} contacts");
+    // The tight fits and the capped bore collide; the clear ones (1.02 socket, 1.1 bore, the
+    // 128-sided bore) not.
+    assert!(contacts >= 2 * (cases.len() - 3), "{contacts} contacts");
     // At the edge of the certificates: tolerances around the clear fits' closest approach.
     // With the closest at 0.4 of the tolerance a contact must be reported (a certificate
     // claiming more clearance than there is would miss it); at 0.9, none can be.
-    for (label, turning, mo, fixed) in [&cases[0], &cases[4]] {
+    for (label, turning, mo, fixed) in [&cases[0], &cases[4], &cases[7]] {
         let closest = oracle(turning, mo, fixed, &still).closest;
         let must = check(turning, mo, fixed, &still, Some(closest / 0.4), label);
         assert!(must, "{label}: no contact at tolerance {}", closest / 0.4);

@@ -455,12 +455,18 @@ impl<'a> StepSearch<'a> {
                 let mut lb = shells.lower_bound(&a.rss, &b.rss, t, h);
                 if lb <= self.delta {
                     let (index, turning, still) = if shells.turning_is_1() {
-                        (n1, (self.bvh1, a), &b.rss)
+                        (n1, (self.bvh1, a), (self.bvh2, n2))
                     } else {
-                        (n2, (self.bvh2, b), &a.rss)
+                        (n2, (self.bvh2, b), (self.bvh1, n1))
                     };
                     let triangles = &turning.0.leaf_triangles()[turning.1.leaf_range()];
-                    lb = lb.max(shells.lower_bound_inner(index, triangles, still, t, h));
+                    lb = lb.max(shells.lower_bound_inner(
+                        index,
+                        triangles,
+                        still,
+                        (t, h),
+                        self.delta,
+                    ));
                 }
                 if lb <= self.delta && a.is_leaf() && b.is_leaf() {
                     let t1 = &self.bvh1.leaf_triangles()[a.leaf_position() as usize];
