@@ -6,7 +6,9 @@ first mesh build or batch (rayon's global pool has no threads in the child)."""
 import concurrent.futures as cf
 import multiprocessing as mp
 import os
+import subprocess
 import sys
+import textwrap
 
 import numpy as np
 import pytest
@@ -144,3 +146,27 @@ def test_worlds_in_child_processes_with_pickled_meshes(method):
     expected = [_world_work(j) for j in jobs]
     assert got == expected
     assert all(len(g) >= 4 for g in got)
+
+
+def test_a_fresh_robots_paths_in_one_batch_do_not_deadlock():
+    # Regression (forty-first session): a hull built inside a query, under its mesh's
+    # OnceLock, waited for a rayon pool; the waiting worker stole another path of the batch
+    # on the same mesh, which waited on the same OnceLock. Run in a child with a deadline, so
+    # that a deadlock fails the test instead of hanging the suite.
+    code = textwrap.dedent(
+        """
+        import os, numpy as np, pybullet_data, tocsin
+        urdf = os.path.join(pybullet_data.getDataPath(), "franka_panda", "panda.urdf")
+        robot = tocsin.Robot.from_urdf(urdf)
+        lo, hi = robot.joint_limits[:, 0], robot.joint_limits[:, 1]
+        rng = np.random.default_rng(4)
+        q0 = lo + (hi - lo) * rng.random((64, robot.dof))
+        q1 = np.clip(q0 + rng.normal(0, 0.5, q0.shape), lo, hi)
+        free = robot.paths_are_free(q0, q1, tocsin.Scene())
+        print(len(free), int(np.sum(free)))
+        """
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert out.returncode == 0, out.stderr
+    count, _ = out.stdout.split()
+    assert int(count) == 64

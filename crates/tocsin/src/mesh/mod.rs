@@ -405,14 +405,20 @@ fn hull_of(mesh: &TriMesh) -> Option<TriMesh> {
     // The hull's hierarchy is only read for its root (GJK's scale) and leaf order: it is built
     // without the in-plane refinement that meshes of up to 256 triangles get, which took
     // 4.6 ms of a 200-triangle hull's 5 ms.
-    // Built on a pool of its own: the hull is made inside a query, which a forked child may run
-    // where rayon's global pool is gone (the parent's threads do not survive a fork), and the
-    // hierarchy's build fills its arrays in parallel (a forked child hung on it).
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(1)
-        .build()
-        .ok()?;
-    let hull = pool.install(|| TriMesh::with_bvh(corners, triangles, Bvh::build_unrefined))?;
+    // Built on a thread and a pool of their own. The hull is made inside a query, under this
+    // mesh's `OnceLock`. A forked child may run the query where rayon's global pool is gone
+    // (the parent's threads do not survive a fork), and the hierarchy's build fills its arrays
+    // in parallel: a forked child hung on it. And a rayon worker waiting for another pool
+    // steals work meanwhile, such as another query on this mesh that then waits on the same
+    // `OnceLock`: `paths_are_free` deadlocked so. A plain thread's join steals nothing.
+    let build = || {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(1)
+            .build()
+            .ok()?;
+        pool.install(|| TriMesh::with_bvh(corners, triangles, Bvh::build_unrefined))
+    };
+    let hull = std::thread::scope(|s| s.spawn(build).join()).ok()??;
     hull.convex_polytope()
         .filter(|p| p.climbs())
         .is_some()
