@@ -283,6 +283,34 @@ fn as_soup(m: &TriMesh) -> TriMesh {
     TriMesh::new(m.vertices().to_vec(), triangles).unwrap()
 }
 
+/// Body 1 crossing from 3 units before the origin to 3 past it along a random direction, up
+/// to `offset` off the line, turning (motion kind `kind`); body 2 near the origin, still or
+/// (`both_move`) moving half a unit back along the direction.
+fn crossing(rng: &mut impl Rng, kind: usize, offset: f64, both_move: bool) -> (Motion, Motion) {
+    let dir = random_unit(rng);
+    let off = random_unit(rng).cross(dir) * rng.random_range(0.0..offset);
+    let s1 = Pose {
+        rotation: random_rotation(rng),
+        translation: -3.0 * dir + off,
+    };
+    let e1 = Pose {
+        rotation: random_rotation(rng),
+        translation: 3.0 * dir + off,
+    };
+    let mo1 = random_motion(rng, kind, s1, e1);
+    let s2 = random_pose(rng, 0.2);
+    let mo2 = if both_move {
+        let e2 = Pose {
+            rotation: random_rotation(rng),
+            translation: s2.translation - dir * 0.5,
+        };
+        random_motion(rng, kind, s2, e2)
+    } else {
+        Motion::stationary(s2)
+    };
+    (mo1, mo2)
+}
+
 /// Two convex meshes (the step from GJK's separation of the whole bodies): passes, grazes
 /// and near misses of every motion kind, one or both bodies moving, against sampling; and the
 /// same geometry through the general path (a degenerate triangle added) reports a contact on
@@ -294,27 +322,7 @@ fn convex_bodies_against_sampling_and_the_general_path() {
     for case in 0..120 {
         let (m1, m2) = (random_convex(&mut rng), random_convex(&mut rng));
         let kind = case % 3;
-        let dir = random_unit(&mut rng);
-        let off = random_unit(&mut rng).cross(dir) * rng.random_range(0.0..1.6);
-        let s1 = Pose {
-            rotation: random_rotation(&mut rng),
-            translation: -3.0 * dir + off,
-        };
-        let e1 = Pose {
-            rotation: random_rotation(&mut rng),
-            translation: 3.0 * dir + off,
-        };
-        let mo1 = random_motion(&mut rng, kind, s1, e1);
-        let s2 = random_pose(&mut rng, 0.2);
-        let mo2 = if case % 2 == 0 {
-            let e2 = Pose {
-                rotation: random_rotation(&mut rng),
-                translation: s2.translation - dir * 0.5,
-            };
-            random_motion(&mut rng, kind, s2, e2)
-        } else {
-            Motion::stationary(s2)
-        };
+        let (mo1, mo2) = crossing(&mut rng, kind, 1.6, case % 2 == 0);
         let label = format!("convex case {case} kind {kind}");
         let hit = check(&m1, &mo1, &m2, &mo2, None, &label);
         let (g1, g2) = (as_soup(&m1), as_soup(&m2));
@@ -389,27 +397,7 @@ fn nearly_convex_bodies_against_sampling() {
             dented(&mut rng)
         };
         let kind = case % 3;
-        let dir = random_unit(&mut rng);
-        let off = random_unit(&mut rng).cross(dir) * rng.random_range(0.0..1.4);
-        let s1 = Pose {
-            rotation: random_rotation(&mut rng),
-            translation: -3.0 * dir + off,
-        };
-        let e1 = Pose {
-            rotation: random_rotation(&mut rng),
-            translation: 3.0 * dir + off,
-        };
-        let mo1 = random_motion(&mut rng, kind, s1, e1);
-        let s2 = random_pose(&mut rng, 0.2);
-        let mo2 = if case % 2 == 0 {
-            let e2 = Pose {
-                rotation: random_rotation(&mut rng),
-                translation: s2.translation - dir * 0.5,
-            };
-            random_motion(&mut rng, kind, s2, e2)
-        } else {
-            Motion::stationary(s2)
-        };
+        let (mo1, mo2) = crossing(&mut rng, kind, 1.4, case % 2 == 0);
         let tol = [None, Some(1e-3)][case % 2];
         let hit = check(
             &m1,
