@@ -209,9 +209,9 @@ impl AxisShells {
     /// the still mesh's node `still_index` over `[t, t + h]`, from the turning node's exact
     /// corner ranges (its largest `rho` and distance from `O`; both `z` ends) against the
     /// still volume's ranges, and where that bound is not above `need`, against the still
-    /// node's exact smallest distance from the line ([`Self::still_rho_lo`]). It certifies a turning body inside a still one (a
-    /// ball in its socket, a shaft in its bore) high in the trees: only the still side's ranges
-    /// loosen with the size of its volume.
+    /// node's exact smallest distance from the line ([`Self::still_rho_lo`]). It certifies a
+    /// turning body inside a still one (a ball in its socket, a shaft in its bore) high in the
+    /// trees: only the still side's ranges loosen with the size of its volume.
     pub(crate) fn lower_bound_inner(
         &self,
         index: u32,
@@ -414,9 +414,10 @@ impl AxisShells {
 }
 
 /// The smallest distance from the line through `p` over the triangle `tri`, the unit `u` and
-/// `v` spanning the plane across the line ([`plane_across`]), exact: the distance from the origin to the triangle projected on the plane across
-/// the line (the projection is linear, and a point's distance from the line is the length of
-/// its part across it): 0 where the projection holds the origin, else the nearest of its edges.
+/// `v` spanning the plane across the line ([`plane_across`]), exact: the distance from the
+/// origin to the triangle projected on the plane across the line (the projection is linear,
+/// and a point's distance from the line is the length of its part across it): 0 where the
+/// projection holds the origin, else the nearest of its edges.
 fn line_distance(tri: &[Vec3; 3], p: Vec3, (u, v): (Vec3, Vec3)) -> f64 {
     let q = tri.map(|c| {
         let rel = c - p;
