@@ -61,10 +61,7 @@ impl TriMesh {
     /// Builds a mesh from vertex coordinates (body frame, model units) and triangles
     /// (three vertex indices each), validating both and building the hierarchy.
     pub fn new(vertices: Vec<Vec3>, triangles: Vec<[u32; 3]>) -> Result<Self, MeshError> {
-        validate(&vertices, triangles.iter().map(|t| t.map(i64::from)))?;
-        reserve(vertices.len(), triangles.len())?;
-        let bvh = Bvh::build(&vertices, &triangles);
-        Ok(Self::assemble(vertices, triangles, bvh))
+        Self::built_by(vertices, triangles, Bvh::build)
     }
 
     /// A mesh of checked parts and their hierarchy, with nothing worked out yet.
@@ -81,16 +78,16 @@ impl TriMesh {
         }
     }
 
-    /// As [`TriMesh::new`], the hierarchy built by `build`; `None` for an invalid mesh.
-    fn with_bvh(
+    /// [`TriMesh::new`] with the hierarchy built by `build` (a hull's is built unrefined).
+    fn built_by(
         vertices: Vec<Vec3>,
         triangles: Vec<[u32; 3]>,
         build: fn(&[Vec3], &[[u32; 3]]) -> Bvh,
-    ) -> Option<Self> {
-        validate(&vertices, triangles.iter().map(|t| t.map(i64::from))).ok()?;
-        reserve(vertices.len(), triangles.len()).ok()?;
+    ) -> Result<Self, MeshError> {
+        validate(&vertices, triangles.iter().map(|t| t.map(i64::from)))?;
+        reserve(vertices.len(), triangles.len())?;
         let bvh = build(&vertices, &triangles);
-        Some(Self::assemble(vertices, triangles, bvh))
+        Ok(Self::assemble(vertices, triangles, bvh))
     }
 
     /// Builds a mesh from borrowed arrays, with signed indices so that negative indices are
@@ -416,7 +413,7 @@ fn hull_of(mesh: &TriMesh) -> Option<TriMesh> {
             .num_threads(1)
             .build()
             .ok()?;
-        pool.install(|| TriMesh::with_bvh(corners, triangles, Bvh::build_unrefined))
+        pool.install(|| TriMesh::built_by(corners, triangles, Bvh::build_unrefined).ok())
     };
     let hull = std::thread::scope(|s| s.spawn(build).join()).ok()??;
     hull.convex_polytope()

@@ -178,8 +178,8 @@ impl AxisShells {
     }
 
     /// The exact smallest distance from the axis line over the still mesh's node `index` of
-    /// hierarchy `bvh` ([`Self::still_rho`]): the smaller of its children's, a leaf's the
-    /// distance from its triangle to the axis segment over the triangle's axial range.
+    /// hierarchy `bvh` ([`Self::still_rho`]): the smaller of its children's, a leaf's its
+    /// triangle's ([`line_distance`]).
     fn still_rho_lo(&self, bvh: &Bvh, index: u32) -> f64 {
         {
             let mut cache = self.still_rho.borrow_mut();

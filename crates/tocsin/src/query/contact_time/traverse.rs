@@ -70,7 +70,10 @@ pub(crate) enum StepOutcome {
         closest: Option<TrianglePairDistance>,
     },
     /// A safe step, the triangle pair that limited it (if any) and the smallest triangle-pair
-    /// distance seen (an upper bound of the meshes' distance; infinite if none was evaluated).
+    /// distance seen (an upper bound of the meshes' distance; infinite if none was evaluated),
+    /// or where a certified gap gave the step without triangle pairs (two convex solids far
+    /// apart, or the hulls' direction), that gap: a lower bound. The advancement uses it only
+    /// to choose the slack and to tell an iterate clearly apart.
     Step {
         dt: f64,
         pair: Option<(u32, u32)>,
@@ -125,7 +128,7 @@ pub(crate) struct StepSearch<'a> {
     /// of each non-convex one: [`TriMesh::outer_polytope`]). Each iteration, the direction
     /// that separates the hulls, with the gap along it measured on the meshes themselves,
     /// certifies a step for every triangle pair ([`Self::hull_step`]); dropped for the rest of
-    /// the query once the hulls overlap.
+    /// the query once the hulls overlap, come within the tolerance or prove loose.
     hull: Hulls<'a>,
     /// This iteration's step certified by the hulls' direction (0 without one): a step the
     /// traversal may stop at as soon as its best is within the slack of it, and a floor under
