@@ -147,7 +147,7 @@ impl TriMesh {
     /// when it is convex, else the convex hull of its corners ([`Self::hull`]); `None` for a
     /// mesh of more than [`crate::query::distance::GJK_MAX_VERTICES`] corners (the convexity
     /// test is made on first use, at about the cost of building the mesh), a non-convex one of
-    /// more than [`HULL_MAX_VERTICES`], or one whose hull could not be made.
+    /// more than [`HULL_MAX_VERTICES`] distinct corners, or one whose hull could not be made.
     pub(crate) fn outer_polytope(
         &self,
     ) -> Option<(&TriMesh, &crate::query::penetration::convex::Polytope)> {
@@ -157,9 +157,6 @@ impl TriMesh {
         if let Some(p) = self.convex_polytope().filter(|p| p.climbs()) {
             return Some((self, p));
         }
-        if self.num_vertices() > HULL_MAX_VERTICES {
-            return None;
-        }
         let hull = self.hull()?;
         Some((hull, hull.convex_polytope()?))
     }
@@ -167,10 +164,11 @@ impl TriMesh {
     /// The convex hull of the corners the triangles use, as a closed convex mesh whose
     /// polytope climbs (parry3d-f64's quickhull; the hull's corners are the mesh's own, to the
     /// bit), made on first use and kept. `None` for a flat or degenerate set of corners, a
-    /// mesh far from convex (fewer than nine in ten of its corners on the hull), or a hull that
-    /// fails the strict convexity test. Nothing relies on the hull holding every
-    /// corner: it only proposes a direction, and the gap along it is measured on the mesh
-    /// ([`crate::bvh::Bvh::support`]).
+    /// mesh far from convex (fewer than nine in ten of its distinct corners on the hull; a
+    /// corner written once per face counts once), one of more than [`HULL_MAX_VERTICES`]
+    /// distinct corners, or a hull that fails the strict convexity test. Nothing relies on the
+    /// hull holding every corner: it only proposes a direction, and the gap along it is
+    /// measured on the mesh ([`crate::bvh::Bvh::support`]).
     pub(crate) fn hull(&self) -> Option<&TriMesh> {
         self.hull
             .get_or_init(|| hull_of(self).map(Box::new))
@@ -363,15 +361,15 @@ fn validate(
     Ok(())
 }
 
-/// Non-convex meshes with more corners than this get no hull ([`TriMesh::hull`]): the hull is
-/// made on a mesh's first time of contact, and quickhull slows on corners in awkward places (a
-/// tube's 2,304 corners on rings took 11 ms, and the hull was then refused). Robot collision
-/// meshes have a few hundred.
+/// Non-convex meshes with more distinct corners than this get no hull ([`TriMesh::hull`]): the
+/// hull is made on a mesh's first time of contact, and quickhull slows on corners in awkward
+/// places (a tube's 2,304 corners on rings took 11 ms, and the hull was then refused). Robot
+/// collision meshes have a few hundred.
 pub(crate) const HULL_MAX_VERTICES: usize = 1024;
 
-/// The share of a mesh's corners its hull must keep for the mesh to have one
+/// The share of a mesh's distinct corners its hull must keep for the mesh to have one
 /// ([`TriMesh::hull`]): a mesh convex but for its triangulation (robot collision meshes such
-/// as pybullet's Panda and MotionBenchMaker's Fetch keep all of them) is as near its hull as
+/// as MotionBenchMaker's Panda but `link6` and its Fetch keep all of them) is as near its hull as
 /// the hull's step needs; one far from convex (MotionBenchMaker's UR5 links keep 30 to 50%)
 /// would pay for GJK on a hull whose gap is not the mesh's (docs/BENCHMARKS.md,
 /// forty-first session).
@@ -384,12 +382,28 @@ fn hull_of(mesh: &TriMesh) -> Option<TriMesh> {
     for t in mesh.triangles() {
         t.iter().for_each(|&i| used[i as usize] = true);
     }
-    let points: Vec<Vector3> = mesh
+    // Distinct positions: a file written with a corner per face (MotionBenchMaker's Panda `link4`
+    // repeats each of its 152 corners about six times) is as near its hull as one that shares
+    // them, and counted by index it kept 17% of its corners.
+    let mut points: Vec<[f64; 3]> = mesh
         .vertices()
         .iter()
         .zip(&used)
         .filter(|(_, &u)| u)
-        .map(|(v, _)| Vector3::new(v.x, v.y, v.z))
+        .map(|(v, _)| v.to_array())
+        .collect();
+    points.sort_unstable_by(|a, b| {
+        (a[0].total_cmp(&b[0]))
+            .then(a[1].total_cmp(&b[1]))
+            .then(a[2].total_cmp(&b[2]))
+    });
+    points.dedup_by(|a, b| a.map(f64::to_bits) == b.map(f64::to_bits));
+    if points.len() > HULL_MAX_VERTICES {
+        return None;
+    }
+    let points: Vec<Vector3> = points
+        .iter()
+        .map(|&[x, y, z]| Vector3::new(x, y, z))
         .collect();
     // The crate's errors are values; a panic on input it does not foresee is caught, and the
     // mesh is then without a hull.
@@ -536,5 +550,36 @@ pub(crate) mod hull_tests {
         assert!(std::ptr::eq(outer, &cube));
         let knot = crate::mesh::torus_knot(40, 6).expect("knot");
         assert!(knot.hull().is_none() && knot.outer_polytope().is_none());
+    }
+
+    /// A file that writes each face's corners apart (as MotionBenchMaker's Panda `link4` does)
+    /// is as near its hull as one that shares them: the share on the hull counts positions,
+    /// not indices. Counted by index, the dented sphere below keeps a sixth of its corners.
+    #[test]
+    fn corners_written_per_face_count_once() {
+        for seed in 0..3 {
+            let m = dented_sphere(seed);
+            let v: Vec<Vec3> = m
+                .triangles()
+                .iter()
+                .flat_map(|t| t.map(|i| m.vertices()[i as usize]))
+                .collect();
+            let t: Vec<[u32; 3]> = (0..m.num_triangles() as u32)
+                .map(|k| [3 * k, 3 * k + 1, 3 * k + 2])
+                .collect();
+            let apart = TriMesh::new(v, t).expect("corners apart");
+            assert!(apart.num_vertices() > 5 * m.hull().expect("a hull").num_vertices());
+            let hull = apart.hull().expect("the same hull");
+            assert_eq!(
+                hull.num_vertices(),
+                m.hull().expect("a hull").num_vertices()
+            );
+            let mut a = hull.vertices().to_vec();
+            let mut b = m.hull().expect("a hull").vertices().to_vec();
+            let key = |p: &Vec3| p.to_array().map(f64::to_bits);
+            a.sort_by_key(key);
+            b.sort_by_key(key);
+            assert_eq!(a, b, "seed {seed}: the hulls' corners differ");
+        }
     }
 }
