@@ -35,8 +35,8 @@ pub struct TriMesh {
     /// use.
     balls: std::sync::OnceLock<Vec<crate::query::penetration::balls::Ball>>,
     /// The convex hull of the corners, as a convex mesh whose polytope climbs, made on first
-    /// use ([`TriMesh::hull`]).
-    hull: std::sync::OnceLock<Option<Box<TriMesh>>>,
+    /// use ([`TriMesh::hull`]), and whether every distinct corner is one of its corners.
+    hull: std::sync::OnceLock<Option<(Box<TriMesh>, bool)>>,
 }
 
 /// Leaf positions sharing a vertex with each leaf: `list[offsets[i]..offsets[i + 1]]`.
@@ -148,17 +148,28 @@ impl TriMesh {
     /// mesh of more than [`crate::query::distance::GJK_MAX_VERTICES`] corners (the convexity
     /// test is made on first use, at about the cost of building the mesh), a non-convex one of
     /// more than [`HULL_MAX_VERTICES`] distinct corners, or one whose hull could not be made.
-    pub(crate) fn outer_polytope(
-        &self,
-    ) -> Option<(&TriMesh, &crate::query::penetration::convex::Polytope)> {
+    pub(crate) fn outer_polytope(&self) -> Option<Outer<'_>> {
         if self.num_vertices() > crate::query::distance::GJK_MAX_VERTICES {
             return None;
         }
         if let Some(p) = self.convex_polytope().filter(|p| p.climbs()) {
-            return Some((self, p));
+            return Some(Outer {
+                mesh: self,
+                polytope: p,
+                exact: true,
+            });
         }
         let hull = self.hull()?;
-        Some((hull, hull.convex_polytope()?))
+        let every_corner = self
+            .hull
+            .get()
+            .and_then(Option::as_ref)
+            .is_some_and(|h| h.1);
+        Some(Outer {
+            mesh: hull,
+            polytope: hull.convex_polytope()?,
+            exact: every_corner,
+        })
     }
 
     /// The convex hull of the corners the triangles use, as a closed convex mesh whose
@@ -171,8 +182,9 @@ impl TriMesh {
     /// measured on the mesh ([`crate::bvh::Bvh::support`]).
     pub(crate) fn hull(&self) -> Option<&TriMesh> {
         self.hull
-            .get_or_init(|| hull_of(self).map(Box::new))
-            .as_deref()
+            .get_or_init(|| hull_of(self))
+            .as_ref()
+            .map(|(h, _)| &**h)
     }
 
     /// Whether the convex polytope test has been made (by an earlier query).
@@ -375,8 +387,21 @@ pub(crate) const HULL_MAX_VERTICES: usize = 1024;
 /// forty-first session).
 const HULL_CORNERS: f64 = 0.9;
 
-/// The hull of [`TriMesh::hull`].
-fn hull_of(mesh: &TriMesh) -> Option<TriMesh> {
+/// A convex polytope holding a mesh ([`TriMesh::outer_polytope`]).
+pub(crate) struct Outer<'a> {
+    /// The mesh itself where it is convex, else its hull.
+    pub mesh: &'a TriMesh,
+    /// `mesh`'s polytope, which climbs.
+    pub polytope: &'a crate::query::penetration::convex::Polytope,
+    /// Whether every distinct corner of the mesh is a corner of `mesh` (a convex mesh, or a
+    /// hull that kept them all): then a corner of `mesh` farthest along a direction, climbed
+    /// on `polytope`, is one of the mesh's farthest too, every corner of `mesh` being one of
+    /// the mesh's and every corner of the mesh one of `mesh`'s.
+    pub exact: bool,
+}
+
+/// The hull of [`TriMesh::hull`], and whether it kept every distinct corner.
+fn hull_of(mesh: &TriMesh) -> Option<(Box<TriMesh>, bool)> {
     use parry3d_f64::math::Vector3;
     let mut used = vec![false; mesh.num_vertices()];
     for t in mesh.triangles() {
@@ -385,23 +410,27 @@ fn hull_of(mesh: &TriMesh) -> Option<TriMesh> {
     // Distinct positions: a file written with a corner per face (MotionBenchMaker's Panda `link4`
     // repeats each of its 152 corners about six times) is as near its hull as one that shares
     // them, and counted by index it kept 17% of its corners.
-    let mut points: Vec<[f64; 3]> = mesh
-        .vertices()
-        .iter()
-        .zip(&used)
-        .filter(|(_, &u)| u)
-        .map(|(v, _)| v.to_array())
-        .collect();
-    points.sort_unstable_by(|a, b| {
-        (a[0].total_cmp(&b[0]))
-            .then(a[1].total_cmp(&b[1]))
-            .then(a[2].total_cmp(&b[2]))
-    });
-    points.dedup_by(|a, b| a.map(f64::to_bits) == b.map(f64::to_bits));
-    if points.len() > HULL_MAX_VERTICES {
+    let distinct = |mut points: Vec<[f64; 3]>| {
+        points.sort_unstable_by(|a, b| {
+            (a[0].total_cmp(&b[0]))
+                .then(a[1].total_cmp(&b[1]))
+                .then(a[2].total_cmp(&b[2]))
+        });
+        points.dedup_by(|a, b| a.map(f64::to_bits) == b.map(f64::to_bits));
+        points
+    };
+    let distinct_corners = distinct(
+        mesh.vertices()
+            .iter()
+            .zip(&used)
+            .filter(|(_, &u)| u)
+            .map(|(v, _)| v.to_array())
+            .collect(),
+    );
+    if distinct_corners.len() > HULL_MAX_VERTICES {
         return None;
     }
-    let points: Vec<Vector3> = points
+    let points: Vec<Vector3> = distinct_corners
         .iter()
         .map(|&[x, y, z]| Vector3::new(x, y, z))
         .collect();
@@ -413,6 +442,9 @@ fn hull_of(mesh: &TriMesh) -> Option<TriMesh> {
         return None;
     }
     let corners: Vec<Vec3> = corners.iter().map(|c| Vec3::new(c.x, c.y, c.z)).collect();
+    // Every distinct corner is a hull corner, to the bit (the hull's supports are then the
+    // mesh's: `Outer::exact`).
+    let every_corner = distinct(corners.iter().map(|c| c.to_array()).collect()) == distinct_corners;
     // The hull's hierarchy is only read for its root (GJK's scale) and leaf order: it is built
     // without the in-plane refinement that meshes of up to 256 triangles get, which took
     // 4.6 ms of a 200-triangle hull's 5 ms.
@@ -433,7 +465,7 @@ fn hull_of(mesh: &TriMesh) -> Option<TriMesh> {
     hull.convex_polytope()
         .filter(|p| p.climbs())
         .is_some()
-        .then_some(hull)
+        .then(|| (Box::new(hull), every_corner))
 }
 
 #[cfg(test)]
@@ -518,8 +550,8 @@ pub(crate) mod hull_tests {
                 "seed {seed}: the dents should make the sphere non-convex"
             );
             let hull = m.hull().expect("a hull");
-            let (outer, _) = m.outer_polytope().expect("an outer polytope");
-            assert!(std::ptr::eq(outer, hull));
+            let outer = m.outer_polytope().expect("an outer polytope");
+            assert!(std::ptr::eq(outer.mesh, hull));
             for c in hull.vertices() {
                 assert!(
                     m.vertices().contains(c),
@@ -546,8 +578,8 @@ pub(crate) mod hull_tests {
             }
         }
         let cube = crate::mesh::box_mesh(Vec3::new(0.5, 0.2, 0.3)).expect("box");
-        let (outer, _) = cube.outer_polytope().expect("a convex mesh is its own");
-        assert!(std::ptr::eq(outer, &cube));
+        let outer = cube.outer_polytope().expect("a convex mesh is its own");
+        assert!(std::ptr::eq(outer.mesh, &cube) && outer.exact);
         let knot = crate::mesh::torus_knot(40, 6).expect("knot");
         assert!(knot.hull().is_none() && knot.outer_polytope().is_none());
     }

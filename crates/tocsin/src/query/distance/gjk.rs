@@ -229,6 +229,15 @@ impl<'a> Gjk<'a> {
         Some(Corner { w, a, b })
     }
 
+    /// The two mesh corners giving `c`, each in its own mesh's frame.
+    #[inline]
+    pub(crate) fn corner_points(&self, c: &Corner) -> (Vec3, Vec3) {
+        (
+            self.mesh1.vertices()[c.a as usize],
+            self.mesh2.vertices()[c.b as usize],
+        )
+    }
+
     /// The separation of the two solids with mesh 2 placed by `(rot12, trans12)` in mesh 1's
     /// frame, or `None` when they overlap (or GJK stalls: module docs). The caller checks
     /// [`Separation::certifies`] before taking the pair as the distance.
