@@ -409,7 +409,9 @@ fn hull_of(mesh: &TriMesh) -> Option<(Box<TriMesh>, bool)> {
     }
     // Distinct positions: a file written with a corner per face (MotionBenchMaker's Panda `link4`
     // repeats each of its 152 corners about six times) is as near its hull as one that shares
-    // them, and counted by index it kept 17% of its corners.
+    // them, and counted by index it kept 17% of its corners. Sorted on this thread, not by
+    // `bvh::same_position`, which sorts on rayon's pool: under this mesh's `OnceLock` a wait
+    // on rayon can deadlock (below).
     let distinct = |mut points: Vec<[f64; 3]>| {
         points.sort_unstable_by(|a, b| {
             (a[0].total_cmp(&b[0]))
