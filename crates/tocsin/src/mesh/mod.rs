@@ -179,7 +179,8 @@ impl TriMesh {
     /// corner written once per face counts once), one of more than [`HULL_MAX_VERTICES`]
     /// distinct corners, or a hull that fails the strict convexity test. Nothing relies on the
     /// hull holding every corner: it only proposes a direction, and the gap along it is
-    /// measured on the mesh ([`crate::bvh::Bvh::support`]).
+    /// measured on the mesh's corners (climbed on the hull where it keeps them all,
+    /// [`Outer::exact`], else searched by [`crate::bvh::Bvh::support`]).
     pub(crate) fn hull(&self) -> Option<&TriMesh> {
         self.hull
             .get_or_init(|| hull_of(self))
