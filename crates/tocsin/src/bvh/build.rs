@@ -252,53 +252,60 @@ fn refine_in_plane(rss: Rss, corners: &[[Vec3; 3]]) -> Rss {
     };
     let mut best = rss;
     let mut best_volume = rss_volume(&rss);
-    for c in corners {
-        for (a, b) in [(c[0], c[1]), (c[1], c[2]), (c[2], c[0])] {
-            let e = b - a;
-            let along = e - normal * e.dot(normal);
-            // An edge (nearly) along the normal gives no direction in the plane: its projection
-            // would be rounding noise, and the axes would not be orthonormal.
-            if along.length() <= 1e-6 * e.length() {
-                continue;
-            }
-            let Some(u) = along.try_normalize() else {
-                continue;
-            };
-            let v = normal.cross(u);
-            let (u1, u2, v1, v2) = (u.dot(e1), u.dot(e2), v.dot(e1), v.dot(e2));
-            let mut extents = (
-                f64::INFINITY,
-                f64::NEG_INFINITY,
-                f64::INFINITY,
-                f64::NEG_INFINITY,
+    for u in in_plane_directions(normal, corners) {
+        let v = normal.cross(u);
+        let (u1, u2, v1, v2) = (u.dot(e1), u.dot(e2), v.dot(e1), v.dot(e2));
+        let mut extents = (
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+        );
+        let mut beaten = false;
+        for (k, (p, &s)) in points.iter().zip(&allowance).enumerate() {
+            let (x, y) = (u1 * p[0] + u2 * p[1], v1 * p[0] + v2 * p[1]);
+            extents = (
+                extents.0.min(x + s),
+                extents.1.max(x - s),
+                extents.2.min(y + s),
+                extents.3.max(y - s),
             );
-            let mut beaten = false;
-            for (k, (p, &s)) in points.iter().zip(&allowance).enumerate() {
-                let (x, y) = (u1 * p[0] + u2 * p[1], v1 * p[0] + v2 * p[1]);
-                extents = (
-                    extents.0.min(x + s),
-                    extents.1.max(x - s),
-                    extents.2.min(y + s),
-                    extents.3.max(y - s),
-                );
-                // The extents only grow with more corners: the volume so far is a bound.
-                if k % 8 == 7 && lower_bound(extents) >= best_volume {
-                    beaten = true;
-                    break;
-                }
+            // The extents only grow with more corners: the volume so far is a bound.
+            if k % 8 == 7 && lower_bound(extents) >= best_volume {
+                beaten = true;
+                break;
             }
-            if beaten || lower_bound(extents) >= best_volume {
-                continue;
-            }
-            let axes = crate::math::Mat3::from_cols(u, v, normal);
-            let candidate = Rss::fit(axes, corners.iter().flatten().copied());
-            let volume = rss_volume(&candidate);
-            if volume < best_volume {
-                (best, best_volume) = (candidate, volume);
-            }
+        }
+        if beaten || lower_bound(extents) >= best_volume {
+            continue;
+        }
+        let axes = crate::math::Mat3::from_cols(u, v, normal);
+        let candidate = Rss::fit(axes, corners.iter().flatten().copied());
+        let volume = rss_volume(&candidate);
+        if volume < best_volume {
+            (best, best_volume) = (candidate, volume);
         }
     }
     best
+}
+
+/// The triangles' edge directions projected into the plane across `normal`, in the triangles'
+/// order (unit; each edge as its triangle runs, so a shared edge gives both signs).
+fn in_plane_directions(normal: Vec3, corners: &[[Vec3; 3]]) -> impl Iterator<Item = Vec3> + '_ {
+    corners.iter().flat_map(move |c| {
+        [(c[0], c[1]), (c[1], c[2]), (c[2], c[0])]
+            .into_iter()
+            .filter_map(move |(a, b)| {
+                let e = b - a;
+                let along = e - normal * e.dot(normal);
+                // An edge (nearly) along the normal gives no direction in the plane: its
+                // projection would be rounding noise, and the axes would not be orthonormal.
+                if along.length() <= 1e-6 * e.length() {
+                    return None;
+                }
+                along.try_normalize()
+            })
+    })
 }
 
 /// A swept sphere rectangle's volume from its half lengths and radius.
@@ -359,21 +366,11 @@ mod tests {
     fn refine_by_fitting_every_edge(rss: Rss, corners: &[[Vec3; 3]]) -> Rss {
         let normal = rss.axes.z_axis;
         let mut best = rss;
-        for c in corners {
-            for (a, b) in [(c[0], c[1]), (c[1], c[2]), (c[2], c[0])] {
-                let e = b - a;
-                let along = e - normal * e.dot(normal);
-                if along.length() <= 1e-6 * e.length() {
-                    continue;
-                }
-                let Some(u) = along.try_normalize() else {
-                    continue;
-                };
-                let axes = crate::math::Mat3::from_cols(u, normal.cross(u), normal);
-                let candidate = Rss::fit(axes, corners.iter().flatten().copied());
-                if rss_volume(&candidate) < rss_volume(&best) {
-                    best = candidate;
-                }
+        for u in in_plane_directions(normal, corners) {
+            let axes = crate::math::Mat3::from_cols(u, normal.cross(u), normal);
+            let candidate = Rss::fit(axes, corners.iter().flatten().copied());
+            if rss_volume(&candidate) < rss_volume(&best) {
+                best = candidate;
             }
         }
         best
