@@ -558,8 +558,9 @@ impl<'a> StepSearch<'a> {
 
     /// The step certified by the hulls ([`Self::hull`]) and the gap it comes from: GJK's
     /// direction `n` between the hulls (roughly converged, as far from contact), and the gap
-    /// along `n` between the meshes' own farthest corners ([`crate::bvh::Bvh::support`]), less
-    /// GJK's rounding allowance. That gap separates every corner of mesh 1 from every corner of
+    /// along `n` between the meshes' own farthest corners (climbed on a polytope that keeps
+    /// every corner of its mesh, else [`crate::bvh::Bvh::support`]), less GJK's rounding
+    /// allowance. That gap separates every corner of mesh 1 from every corner of
     /// mesh 2, so every triangle pair, whatever the hulls are: the hull only proposes the
     /// direction. The step is then the whole bodies' ([`Self::whole_bodies_step`]). `(0, 0)`
     /// where there is none; the hulls overlapping drops them for the rest of the query.
@@ -592,7 +593,11 @@ impl<'a> StepSearch<'a> {
         // The farthest corners along `n`: climbed on a polytope that keeps every corner of its
         // mesh (by the hierarchy, a sphere primitive's 500 corners cost 17,000 instructions a
         // side, 37% of that Fetch pair's checks), else searched over the mesh's hierarchy.
-        let climbed = g.support(n, &rot12, trans12).map(|w| g.corner_points(&w));
+        let climbed = if exact.0 || exact.1 {
+            g.support(n, &rot12, trans12).map(|w| g.corner_points(&w))
+        } else {
+            None
+        };
         let c1 = match climbed {
             Some((p1, _)) if exact.0 => Some(p1),
             _ => self.bvh1.support(n),
