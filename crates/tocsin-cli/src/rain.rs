@@ -16,8 +16,11 @@
 //!   it at the start of a piece that is approaching gets its impulses at once; one that is
 //!   separating is checked for the rest of the piece with half its present distance as the
 //!   tolerance, so that no pair is ever excused from the check (bodies never touch);
-//! - impulses on the contact's manifold (the witness point and every box corner within
-//!   [`MANIFOLD`] of the other box) along the contact normal, by sequential impulses: a point
+//! - impulses on the contacts' manifolds (the witness point and every box corner within
+//!   [`MANIFOLD`] of the other box) along each contact's normal, by sequential impulses over
+//!   every contact of the instant together (a body pressed between two others or wedged
+//!   between a plate and a wall gets impulses that satisfy all its contacts at once; solved
+//!   pair by pair, each pair's impulses undid the other's and the step froze): a point
 //!   within the tolerance gets a normal velocity of at least
 //!   `max(-e vn, SEPARATION, (TOLERANCE - gap) / RESTORE)`, with restitution `e` =
 //!   [`RESTITUTION`], a small separation speed [`SEPARATION`] (2 cm/s) that keeps resting
@@ -25,16 +28,21 @@
 //!   point closer than the tolerance back to it in [`RESTORE`] (2 ms), so that gaps do not
 //!   shrink towards rounding in resting contact; farther points are speculative contacts;
 //!   Coulomb friction with coefficient [`FRICTION`] clamps each point's tangential impulse to
-//!   `mu` times its normal one;
-//! - a body rocking on an edge stops turning: a one-point manifold (an edge on a face, no corner
-//!   within [`MANIFOLD`]) pushes at one point, the body turns about it and another point of the
-//!   edge comes down, and the separating check with half the distance finds it again, closer
-//!   each time, down to [`MIN_GAP`], where the step could only freeze. A contact on a one- or
-//!   two-point manifold closer than [`ROCKING`] of the tolerance (no contact is reported that
-//!   close: it is such a return) sets both bodies' angular velocities to zero before its
-//!   impulses (`spins_stopped` in the JSON). Until the thirty-ninth session the continuous
-//!   queries of such pairs mostly reached their iteration cap first, and the capped query
-//!   stopped the bodies for the piece instead; two convex polytopes' queries now answer them;
+//!   `mu` times its normal one. Where the passes do not settle (friction locks a wedge whose
+//!   contacts all ask the body to leave), the instant is solved again without friction
+//!   (`jams` in the JSON);
+//! - a body rocking on an edge stops turning: a manifold along a line (a corner, or an edge on
+//!   a face) pushes at one point, the body turns about it and another point of the edge comes
+//!   down, and the separating check with half the distance finds it again, closer each time,
+//!   down to [`MIN_GAP`], where the step could only freeze. A contact on such a manifold closer
+//!   than [`ROCKING`] of the tolerance (no contact is reported that close: it is such a return)
+//!   sets both bodies' angular velocities to zero and holds them there through the instant's
+//!   impulses, which then move the bodies apart along the normal without turning them
+//!   (`spins_stopped` in the JSON). Until the thirty-ninth session the continuous queries of
+//!   such pairs mostly reached their iteration cap first, and the capped query stopped the
+//!   bodies for the piece instead; two convex polytopes' queries now answer them. Until the
+//!   forty-third session the impulses gave the spin back and 8 of 100 seeds of 40 bodies froze
+//!   (1 to 66 steps of 90), some in wedges; none of those 100 does now;
 //! - after [`MAX_EVENTS`] contacts in one step, the rest of that step is skipped (bodies keep
 //!   their velocities but do not move: never unsafe), and the step is counted as frozen.
 //!
@@ -74,12 +82,19 @@ pub const MIN_GAP: f64 = 1e-9;
 /// A point closer than the tolerance separates at least fast enough to reach it again in this
 /// time, seconds (a position correction by velocity, as Baumgarte's).
 pub const RESTORE: f64 = 2e-3;
+/// Fewest and most passes of the impulse solver over one instant's contact points.
+pub const MIN_PASSES: usize = 8;
+/// See [`MIN_PASSES`].
+pub const PASSES: usize = 256;
+/// The solver has settled when every point's normal velocity is within this fraction of
+/// [`SEPARATION`] of its target (below the quarter that asks for impulses again).
+pub const SETTLED: f64 = 0.2;
 /// Contacts resolved per step before the rest of it is skipped.
 pub const MAX_EVENTS: usize = 400;
 /// Largest turn of a body in one piece of a step, radians.
 pub const MAX_TURN: f64 = 3.0;
-/// A contact closer than this fraction of the tolerance on a one- or two-point manifold is a
-/// body rocking on an edge (module docs).
+/// A contact closer than this fraction of the tolerance on a manifold along a line (a point or
+/// an edge: [`on_a_line`]) is a body rocking on an edge (module docs).
 pub const ROCKING: f64 = 0.25;
 /// Corners of a box within this of the other box join a contact's manifold, metres.
 pub const MANIFOLD: f64 = 5e-3;
@@ -290,92 +305,162 @@ fn manifold(a: (Vec3, Pose), b: (Vec3, Pose), n: Vec3, witness: ContactPoint) ->
     out
 }
 
-/// Impulses on bodies `a` and `b` (`None`: a plate) at the points of a manifold, normal `n`
-/// from `a` to `b`, by sequential impulses with accumulated clamping (8 passes). A point within
-/// the tolerance gets a normal velocity of at least `max(-e vn, SEPARATION, (TOLERANCE - gap) /
-/// RESTORE)`; a point farther
-/// away (a speculative contact) may approach, but only as fast as closes its gap to the
-/// tolerance in the `left` seconds of the step. Friction at each point is clamped to `mu` times
-/// its normal impulse. Returns whether impulses were applied (some point fell short of its
-/// target by more than a quarter of [`SEPARATION`]).
+/// One contact's manifold for [`resolve`]: the bodies (`None`: a plate), the normal `n` from
+/// the first to the second, and the points.
+struct Manifold {
+    pair: (Option<usize>, Option<usize>),
+    n: Vec3,
+    points: Vec<ContactPoint>,
+}
+
+/// Whether a manifold's points lie within [`PLATE`] of one line: a box's corner or edge, not
+/// a face (the bodies are at least 16 mm thick). The witness point of an edge on a face lies
+/// on the edge beside its corners, so counting points (two at most, until the forty-third
+/// session) missed such edges and they rocked down to [`MIN_GAP`].
+fn on_a_line(points: &[ContactPoint]) -> bool {
+    let Some(first) = points.first() else {
+        return true;
+    };
+    let far = points
+        .iter()
+        .map(|c| c.p)
+        .max_by(|a, b| (*a - first.p).length().total_cmp(&(*b - first.p).length()))
+        .unwrap_or(first.p);
+    let Some(along) = (far - first.p).try_normalize() else {
+        return true;
+    };
+    points.iter().all(|c| {
+        let d = c.p - first.p;
+        (d - along * d.dot(along)).length() <= PLATE
+    })
+}
+
+/// Impulses at the points of every manifold of one instant, solved together by sequential
+/// impulses with accumulated clamping ([`MIN_PASSES`] to [`PASSES`] passes over all the points,
+/// until every point is within [`SETTLED`] of [`SEPARATION`] of its target): a body pressed between
+/// two others, or wedged between two plates, gets the impulses that satisfy both contacts at
+/// once (solved pair by pair, each pair's impulses undid the other's, and the step froze). A
+/// point within the tolerance gets a normal velocity of at least `max(-e vn, SEPARATION,
+/// (TOLERANCE - gap) / RESTORE)`; a point farther away (a speculative contact) may approach,
+/// but only as fast as closes its gap to the tolerance in the `left` seconds of the step.
+/// Friction at each point is clamped to `mu` times its normal impulse; where friction keeps the
+/// points from settling (a jam: a body wedged between a plate's edge and a wall, whose contacts
+/// ask it to leave both), they are solved again without it. Nothing is applied unless some
+/// point falls short of its target by more than a quarter of [`SEPARATION`]. Returns the bodies
+/// whose velocities changed, and whether the contacts jammed. The bodies in `locked` (rocking
+/// on an edge, module docs) do not turn: their inverse inertia counts as zero.
 fn resolve(
     bodies: &mut [Body],
-    (a, b): (Option<usize>, Option<usize>),
-    points: &[ContactPoint],
-    n: Vec3,
+    manifolds: &[Manifold],
+    locked: &[usize],
     left: f64,
-) -> bool {
-    let relative = |bodies: &[Body], p: Vec3| {
+) -> (Vec<usize>, bool) {
+    let turns = |k: usize| !locked.contains(&k);
+    let relative = |bodies: &[Body], (a, b): (Option<usize>, Option<usize>), p: Vec3| {
         let vel = |k: Option<usize>| k.map_or(Vec3::ZERO, |k| bodies[k].velocity_at(p));
         vel(b) - vel(a)
     };
     let mass = |bodies: &[Body], k: Option<usize>, p: Vec3| {
         k.map_or((0.0, Mat3::ZERO, Vec3::ZERO), |k| {
             let s = &bodies[k];
-            (s.inv_mass, s.inv_inertia_world(), p - s.x)
+            let iw = if turns(k) {
+                s.inv_inertia_world()
+            } else {
+                Mat3::ZERO
+            };
+            (s.inv_mass, iw, p - s.x)
         })
     };
-    let targets: Vec<f64> = points
-        .iter()
-        .map(|c| {
-            if c.gap <= TOLERANCE {
-                (-RESTITUTION * relative(bodies, c.p).dot(n))
+    // Every point with its manifold: (manifold, point, target normal velocity).
+    let mut rows = Vec::new();
+    for (m, f) in manifolds.iter().enumerate() {
+        for c in &f.points {
+            let target = if c.gap <= TOLERANCE {
+                (-RESTITUTION * relative(bodies, f.pair, c.p).dot(f.n))
                     .max(SEPARATION)
                     .max((TOLERANCE - c.gap) / RESTORE)
             } else {
                 -(c.gap - TOLERANCE) / left.max(1e-9)
-            }
-        })
-        .collect();
+            };
+            rows.push((m, c.p, target));
+        }
+    }
     // Nothing to do unless a point falls short of its target by a quarter of the separation
     // speed (the passes leave small residuals; chasing them would never end).
-    let short = points
-        .iter()
-        .zip(&targets)
-        .any(|(c, t)| relative(bodies, c.p).dot(n) < t - 0.25 * SEPARATION);
+    let short = rows.iter().any(|&(m, p, t)| {
+        let f = &manifolds[m];
+        relative(bodies, f.pair, p).dot(f.n) < t - 0.25 * SEPARATION
+    });
     if !short {
-        return false;
+        return (Vec::new(), false);
     }
-    let mut normal = vec![0.0_f64; points.len()];
-    let mut friction = vec![Vec3::ZERO; points.len()];
-    let apply = |bodies: &mut [Body], p: Vec3, impulse: Vec3| {
+    let before: Vec<(Vec3, Vec3)> = bodies.iter().map(|s| (s.v, s.w)).collect();
+    let apply = |bodies: &mut [Body], (a, b): (Option<usize>, Option<usize>), p: Vec3, j: Vec3| {
         for (k, sign) in [(a, -1.0), (b, 1.0)] {
             if let Some(i) = k {
                 let s = &mut bodies[i];
-                let iw = s.inv_inertia_world();
-                s.v += impulse * (sign * s.inv_mass);
-                s.w += iw * (p - s.x).cross(impulse * sign);
+                s.v += j * (sign * s.inv_mass);
+                if turns(i) {
+                    s.w += s.inv_inertia_world() * (p - s.x).cross(j * sign);
+                }
             }
         }
     };
-    for _ in 0..8 {
-        for (k, c) in points.iter().enumerate() {
-            let (ma, ia, ra) = mass(bodies, a, c.p);
-            let (mb, ib, rb) = mass(bodies, b, c.p);
-            let eff = |d: Vec3| {
-                ma + mb + d.dot((ia * ra.cross(d)).cross(ra) + (ib * rb.cross(d)).cross(rb))
-            };
-            let rel = relative(bodies, c.p);
-            let total = (normal[k] + (targets[k] - rel.dot(n)) / eff(n)).max(0.0);
-            let dj = total - normal[k];
-            normal[k] = total;
-            apply(bodies, c.p, n * dj);
-            let rel = relative(bodies, c.p);
-            let tangential = rel - n * rel.dot(n);
-            if let Some(t) = tangential.try_normalize() {
-                let wanted = friction[k] - t * (tangential.length() / eff(t));
-                let limit = FRICTION * normal[k];
-                let clamped = if wanted.length() > limit {
-                    wanted * (limit / wanted.length())
-                } else {
-                    wanted
+    // The passes, with or without friction; whether every point settled near its target.
+    let solve = |bodies: &mut [Body], mu: f64| {
+        let mut normal = vec![0.0_f64; rows.len()];
+        let mut friction = vec![Vec3::ZERO; rows.len()];
+        for pass in 0..PASSES {
+            for (k, &(m, p, target)) in rows.iter().enumerate() {
+                let Manifold { pair, n, .. } = manifolds[m];
+                let (ma, ia, ra) = mass(bodies, pair.0, p);
+                let (mb, ib, rb) = mass(bodies, pair.1, p);
+                let eff = |d: Vec3| {
+                    ma + mb + d.dot((ia * ra.cross(d)).cross(ra) + (ib * rb.cross(d)).cross(rb))
                 };
-                apply(bodies, c.p, clamped - friction[k]);
-                friction[k] = clamped;
+                let rel = relative(bodies, pair, p);
+                let total = (normal[k] + (target - rel.dot(n)) / eff(n)).max(0.0);
+                let dj = total - normal[k];
+                normal[k] = total;
+                apply(bodies, pair, p, n * dj);
+                let rel = relative(bodies, pair, p);
+                let tangential = rel - n * rel.dot(n);
+                if let Some(t) = tangential.try_normalize().filter(|_| mu > 0.0) {
+                    let wanted = friction[k] - t * (tangential.length() / eff(t));
+                    let limit = mu * normal[k];
+                    let clamped = if wanted.length() > limit {
+                        wanted * (limit / wanted.length())
+                    } else {
+                        wanted
+                    };
+                    apply(bodies, pair, p, clamped - friction[k]);
+                    friction[k] = clamped;
+                }
+            }
+            let settled = rows.iter().all(|&(m, p, t)| {
+                let f = &manifolds[m];
+                relative(bodies, f.pair, p).dot(f.n) >= t - SETTLED * SEPARATION
+            });
+            if settled && pass + 1 >= MIN_PASSES {
+                return true;
             }
         }
+        false
+    };
+    let jammed = !solve(bodies, FRICTION);
+    if jammed {
+        // Friction holds the bodies where the contacts ask them to leave (a box wedged between
+        // a plate's edge and a wall): the points are solved again from the velocities before,
+        // without friction, and the bodies slide out of the wedge.
+        for (s, &(v, w)) in bodies.iter_mut().zip(&before) {
+            (s.v, s.w) = (v, w);
+        }
+        solve(bodies, 0.0);
     }
-    true
+    let moved = (0..bodies.len())
+        .filter(|&k| (bodies[k].v, bodies[k].w) != before[k])
+        .collect();
+    (moved, jammed)
 }
 
 /// The single query on bodies `i`, `j` over the piece: `Some((time, Some(contact)))` for a
@@ -424,6 +509,8 @@ struct Tally {
     frozen_steps: usize,
     /// Bodies whose spin was stopped while rocking on an edge (module docs).
     spins_stopped: usize,
+    /// Instants whose contacts friction jammed, solved again without it ([`resolve`]).
+    jams: usize,
     /// Pair queries that reached their iteration cap (the piece then stops where they did).
     capped: usize,
     intersections: usize,
@@ -517,6 +604,7 @@ pub fn run(args: &RainArgs) -> Result<Value, String> {
         "intersecting_pairs": tally.intersections,
         "contacts_resolved": tally.events,
         "frozen_steps": tally.frozen_steps,
+        "jams": tally.jams,
         "spins_stopped": tally.spins_stopped,
         "capped_queries": tally.capped,
         "in_bin": in_bin,
@@ -645,14 +733,17 @@ fn step_once(
             .filter_map(|(_, c)| *c)
             .collect();
         let mut moved = Vec::new();
+        let mut manifolds = Vec::with_capacity(at_now.len());
+        let mut locked = Vec::new();
         for c in &at_now {
             let (a, b) = (boxes(bodies, c.body1), boxes(bodies, c.body2));
             let points = manifold(a, b, c.contact.normal, witness(c));
             let pair = (c.body1.checked_sub(first), c.body2.checked_sub(first));
-            if c.contact.distance < ROCKING * TOLERANCE && points.len() <= 2 {
-                // Closer than a contact is ever reported, on a one- or two-point manifold: the
+            if c.contact.distance < ROCKING * TOLERANCE && on_a_line(&points) {
+                // Closer than a contact is ever reported, on a point or an edge: the
                 // pair came back after its impulses (module docs); its bodies stop turning.
                 for k in pair.0.into_iter().chain(pair.1) {
+                    locked.push(k);
                     if bodies[k].w != Vec3::ZERO {
                         bodies[k].w = Vec3::ZERO;
                         moved.push(k);
@@ -660,10 +751,15 @@ fn step_once(
                     }
                 }
             }
-            if resolve(bodies, pair, &points, c.contact.normal, DT - now) {
-                moved.extend(pair.0.into_iter().chain(pair.1));
-            }
+            manifolds.push(Manifold {
+                pair,
+                n: c.contact.normal,
+                points,
+            });
         }
+        let (pushed, jammed) = resolve(bodies, &manifolds, &locked, DT - now);
+        moved.extend(pushed);
+        tally.jams += usize::from(jammed);
         if !moved.is_empty() {
             moved.sort_unstable();
             moved.dedup();
@@ -843,13 +939,21 @@ mod tests {
         let p = b[0].x - Vec3::new(0.0, 0.0, 0.01);
         let point = [ContactPoint { p, gap: 0.0 }];
         // The plate is body 1 (`None`), the box body 2, the normal from the plate up.
-        assert!(resolve(&mut b, (None, Some(0)), &point, Vec3::Z, DT));
+        let on_plate = |points: &[ContactPoint]| Manifold {
+            pair: (None, Some(0)),
+            n: Vec3::Z,
+            points: points.to_vec(),
+        };
+        assert_eq!(
+            resolve(&mut b, &[on_plate(&point)], &[], DT),
+            (vec![0], false)
+        );
         let vn = b[0].velocity_at(p).z;
         assert!((vn - RESTITUTION * 10.0).abs() < 1e-9, "{vn}");
         // Friction took tangential speed off, within the cone.
         assert!(b[0].velocity_at(p).x < 1.0);
         // Separating now: no second impulse.
-        assert!(!resolve(&mut b, (None, Some(0)), &point, Vec3::Z, DT));
+        assert!(resolve(&mut b, &[on_plate(&point)], &[], DT).0.is_empty());
 
         // A cube resting flat on a plate: four corners in the manifold; after the impulses no
         // corner approaches the plate.
@@ -866,12 +970,94 @@ mod tests {
         };
         let points = manifold(plate, (half, cube[1].pose()), Vec3::Z, witness);
         assert_eq!(points.len(), 5);
-        assert!(resolve(&mut cube, (None, Some(1)), &points, Vec3::Z, DT));
+        let flat = Manifold {
+            pair: (None, Some(1)),
+            n: Vec3::Z,
+            points,
+        };
+        assert_eq!(resolve(&mut cube, &[flat], &[], DT), (vec![1], false));
         for c in corners(half, &cube[1].pose())
             .into_iter()
             .filter(|c| c.z < 0.01)
         {
             assert!(cube[1].velocity_at(c).z > 0.5 * SEPARATION, "{c}");
         }
+    }
+
+    #[test]
+    fn a_box_wedged_between_two_plates_leaves_both_at_once() {
+        // A cube sinking into a V of two plates (normals up and inwards): each contact solved on
+        // its own undid the other's impulses and the pair came back forever (seed 35 froze 32
+        // of 90 steps); solved together, one call satisfies both and a second has nothing to do.
+        let mut cube = bodies(2, 7, 0.0);
+        cube[1].r = Mat3::IDENTITY;
+        cube[1].v = Vec3::new(0.3, 0.0, -0.5);
+        cube[1].w = Vec3::new(0.0, 4.0, 0.0);
+        let (left, right) = (Vec3::new(-0.76, 0.0, 0.65), Vec3::new(1.0, 0.0, 0.0));
+        let at = |n: Vec3, gap: f64| ContactPoint {
+            p: cube[1].x - n.normalize() * 0.025,
+            gap,
+        };
+        let wedge = [
+            Manifold {
+                pair: (None, Some(1)),
+                n: left.normalize(),
+                points: vec![at(left, 9.6e-5)],
+            },
+            Manifold {
+                pair: (None, Some(1)),
+                n: right,
+                points: vec![at(right, 1.8e-5), at(right + Vec3::Y * 0.5, 1.8e-5)],
+            },
+        ];
+        // Friction jams it (mu 0.5): it is freed without friction.
+        assert_eq!(resolve(&mut cube, &wedge, &[], DT), (vec![1], true));
+        for m in &wedge {
+            for c in &m.points {
+                let vn = cube[1].velocity_at(c.p).dot(m.n);
+                assert!(vn > 0.75 * SEPARATION, "{vn} at {:?}", c.p);
+            }
+        }
+        assert!(resolve(&mut cube, &wedge, &[], DT).0.is_empty());
+        // Each alone, in turn (until the forty-third session): the second undoes the first, and
+        // fifty rounds do not settle them.
+        let mut alone = bodies(2, 7, 0.0);
+        alone[1].r = Mat3::IDENTITY;
+        alone[1].v = Vec3::new(0.3, 0.0, -0.5);
+        alone[1].w = Vec3::new(0.0, 4.0, 0.0);
+        let mut rounds = 0;
+        while rounds < 50
+            && wedge.iter().any(|m| {
+                !resolve(&mut alone, std::slice::from_ref(m), &[], DT)
+                    .0
+                    .is_empty()
+            })
+        {
+            rounds += 1;
+        }
+        assert_eq!(rounds, 50);
+    }
+
+    #[test]
+    fn an_edge_with_its_witness_is_on_a_line_and_a_face_is_not() {
+        let at = |x: f64, y: f64, z: f64| ContactPoint {
+            p: Vec3::new(x, y, z),
+            gap: 0.0,
+        };
+        // A rod's edge on a plate: two corners and the witness between them, a little off.
+        assert!(on_a_line(&[
+            at(0.03, 0.0, 2e-5),
+            at(-0.1, 0.0, 0.0),
+            at(0.1, 0.0, 0.0)
+        ]));
+        assert!(on_a_line(&[at(0.0, 0.0, 0.0)]));
+        assert!(on_a_line(&[]));
+        // A rod's face: its corners 16 mm apart across the edge.
+        assert!(!on_a_line(&[
+            at(0.0, 0.0, 0.0),
+            at(-0.1, -0.008, 0.0),
+            at(0.1, -0.008, 0.0),
+            at(-0.1, 0.008, 0.0),
+        ]));
     }
 }

@@ -682,7 +682,10 @@ fn penetration_pointwise_and_hausdorff() {
 /// had reached their iteration cap (thirty-ninth session), until rocking bodies stopped turning.
 #[test]
 fn rain_forty_bodies_never_freeze() {
-    for seed in ["3", "4"] {
+    // 3 and 4 froze before the fortieth session; 35 (a box wedged between a plate's edge and a
+    // wall), 64 and 95 (bodies rocking on two contacts at once) froze 32 to 66 of 90 steps
+    // before the forty-third.
+    for seed in ["3", "4", "35", "64", "95"] {
         let (code, out, err) = tocsin(&["rain", "--bodies", "40", "--steps", "90", "--seed", seed]);
         assert_eq!(code, 0, "{err}");
         let v: serde_json::Value = serde_json::from_str(&out).unwrap();
