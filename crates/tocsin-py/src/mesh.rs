@@ -72,8 +72,10 @@ impl Mesh {
         Self::new(py, &get("vertices")?, &get("faces")?)
     }
 
-    /// Loads an OBJ, STL (ASCII or binary, one or more solids) or PLY file; polygons are
-    /// triangulated, points and lines skipped. Raises MeshFileError if the file cannot be
+    /// Loads an OBJ, STL (ASCII or binary, one or more solids), PLY or COLLADA file;
+    /// polygons are triangulated, points and lines skipped (a COLLADA file: every geometry
+    /// its visual scene places, with the nodes' transforms and the unit; up_axis ignored, as
+    /// ROS and coal do). Raises MeshFileError if the file cannot be
     /// read, MeshError if its content is bad.
     #[staticmethod]
     fn load(py: Python<'_>, path: std::path::PathBuf) -> PyResult<Self> {

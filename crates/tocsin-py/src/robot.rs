@@ -213,7 +213,7 @@ impl Robot {
     /// (pybullet's convention); a missing mesh raises RobotFileError listing every path tried.
     /// `srdf`: a MoveIt SRDF file whose <disable_collisions> pairs are allowed to touch.
     /// Raises RobotFileError (unreadable file, missing mesh), RobotError (bad model:
-    /// unsupported joint type, cycles, several roots, bad axes or mimics, COLLADA meshes).
+    /// unsupported joint type, cycles, several roots, bad axes or mimics, a bad mesh).
     #[staticmethod]
     #[pyo3(signature = (path, package_dirs=Vec::new(), srdf=None))]
     fn from_urdf(

@@ -89,7 +89,7 @@ pub enum MeshError {
         message: String,
     },
     /// The file extension is not one of the supported formats.
-    #[error("{path}: unknown mesh format (expected .obj, .stl or .ply)")]
+    #[error("{path}: unknown mesh format (expected .obj, .stl, .ply or .dae)")]
     UnknownFormat {
         /// The file.
         path: PathBuf,

@@ -120,8 +120,19 @@ fn stl_ascii_and_binary_and_ply() {
 fn bad_files_are_typed_errors() {
     let e = TriMesh::load("/nonexistent/x.obj").unwrap_err();
     assert!(matches!(e, MeshError::Io { .. }), "{e}");
-    let e = TriMesh::load(tmp("x.dae", b"<xml/>")).unwrap_err();
+    let e = TriMesh::load(tmp("x.fbx", b"<xml/>")).unwrap_err();
     assert!(matches!(e, MeshError::UnknownFormat { .. }), "{e}");
+    let e = TriMesh::load(tmp("x.dae", b"<xml/>")).unwrap_err();
+    assert!(
+        matches!(
+            e,
+            MeshError::Parse {
+                format: "COLLADA",
+                ..
+            }
+        ),
+        "{e}"
+    );
     let e = TriMesh::load(tmp("bad.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 zero\nf 1 2 3\n")).unwrap_err();
     assert!(
         matches!(

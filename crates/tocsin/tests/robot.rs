@@ -171,12 +171,74 @@ fn bad_models_are_refused_with_clear_errors() {
             "{err} should mention {needle:?}"
         );
     }
-    // A COLLADA file that exists is refused by name.
+    // A broken COLLADA file is an error that names the format.
     let dir = scratch("dae");
     std::fs::write(dir.join("m.dae"), "<COLLADA/>").unwrap();
     let xml = robot_xml(&link("a", "<mesh filename='m.dae'/>"));
     let err = Robot::from_urdf_str(&xml, Some(&dir), &[]).unwrap_err();
     assert!(err.to_string().contains("COLLADA"), "{err}");
+}
+
+/// A COLLADA file with the 12 triangles of `mesh`, in centimetres, placed by a node that
+/// translates it by (1, 2, 3) cm; `<up_axis>` Y_UP (ignored).
+fn write_dae(path: &Path, mesh: &TriMesh) {
+    let v: Vec<String> = mesh
+        .vertices()
+        .iter()
+        .map(|p| format!("{} {} {}", p.x * 100.0, p.y * 100.0, p.z * 100.0))
+        .collect();
+    let t: Vec<String> = mesh
+        .triangles()
+        .iter()
+        .map(|t| format!("{} {} {}", t[0], t[1], t[2]))
+        .collect();
+    let (nv, nt) = (mesh.vertices().len(), mesh.triangles().len());
+    let text = format!(
+        r##"<?xml version="1.0"?>
+<COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">
+<asset><unit name="centimeter" meter="0.01"/><up_axis>Y_UP</up_axis></asset>
+<library_geometries><geometry id="box"><mesh>
+<source id="p"><float_array id="pa" count="{}">{}</float_array><technique_common>
+<accessor source="#pa" count="{nv}" stride="3"><param name="X" type="float"/>
+<param name="Y" type="float"/><param name="Z" type="float"/></accessor></technique_common></source>
+<vertices id="v"><input semantic="POSITION" source="#p"/></vertices>
+<triangles count="{nt}"><input semantic="VERTEX" source="#v" offset="0"/><p>{}</p></triangles>
+</mesh></geometry></library_geometries>
+<library_visual_scenes><visual_scene id="s"><node><translate>1 2 3</translate>
+<instance_geometry url="#box"/></node></visual_scene></library_visual_scenes>
+<scene><instance_visual_scene url="#s"/></scene></COLLADA>"##,
+        3 * nv,
+        v.join(" "),
+        t.join(" ")
+    );
+    std::fs::write(path, text).unwrap();
+}
+
+#[test]
+fn collada_meshes_load_with_their_units_and_nodes_and_empty_textures_are_ignored() {
+    let dir = scratch("collada");
+    let cube = tocsin::mesh::box_mesh(Vec3::new(0.1, 0.2, 0.3)).unwrap();
+    write_dae(&dir.join("box.dae"), &cube);
+    // iCub's and Romeo's URDFs write `<texture />` in visual materials; urdf-rs needs a
+    // filename there, urdfdom does not.
+    let visual = "<visual><geometry><box size='1 1 1'/></geometry><material name='m'>\
+                  <texture /><color rgba='0 0 0 1'/></material></visual>";
+    let xml = robot_xml(&format!(
+        "<link name='a'>{visual}<collision><geometry><mesh filename='box.dae'/></geometry>\
+         </collision></link>"
+    ));
+    let robot = Robot::from_urdf_str(&xml, Some(&dir), &[]).unwrap();
+    let mesh = &robot.objects()[0].mesh;
+    assert_eq!(mesh.triangles().len(), cube.triangles().len());
+    let shift = Vec3::new(0.01, 0.02, 0.03);
+    let corner = |m: &TriMesh, t: usize, k: usize| m.vertices()[m.triangles()[t][k] as usize];
+    for t in 0..cube.triangles().len() {
+        for k in 0..3 {
+            // Read as f32 by the file's reader: within 1e-7 of the size.
+            let (a, b) = (corner(mesh, t, k), corner(&cube, t, k) + shift);
+            assert!((a - b).length() < 1e-7, "{a} vs {b}");
+        }
+    }
 }
 
 #[test]

@@ -62,8 +62,10 @@ class Mesh:
         """A mesh from a trimesh.Trimesh (anything with .vertices (N, 3) and .faces (M, 3))."""
     @staticmethod
     def load(path: Union[str, PathLike[str]]) -> Mesh:
-        """Loads an OBJ, STL (ASCII or binary, one or more solids) or PLY file; polygons are
-        triangulated, points and lines skipped.
+        """Loads an OBJ, STL (ASCII or binary, one or more solids), PLY or COLLADA file;
+        polygons are triangulated, points and lines skipped (a COLLADA file: every geometry
+        its visual scene places, with the nodes' transforms and the unit; up_axis ignored, as
+        ROS and coal do).
         Raises MeshFileError if the file cannot be read, MeshError if its content is bad."""
     @staticmethod
     def torus_knot(n_u: int, n_v: int) -> Mesh:

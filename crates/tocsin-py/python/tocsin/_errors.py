@@ -47,7 +47,7 @@ class OutOfMemoryError(TocsinError, MemoryError):
 
 class RobotError(TocsinError, ValueError):
     """A robot model is invalid or unsupported (an unknown joint type, a cycle, several roots,
-    a joint axis of zero length, a bad mimic, a COLLADA mesh, an invalid collision mesh), or a
+    a joint axis of zero length, a bad mimic, an invalid collision mesh), or a
     name (link, object) is unknown."""
 
 

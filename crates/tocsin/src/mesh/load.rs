@@ -1,4 +1,5 @@
-//! Reading OBJ (tobj), binary STL (stl_io), ASCII STL (here) and PLY (ply-rs-bw).
+//! Reading OBJ (tobj), binary STL (stl_io), ASCII STL (here), PLY (ply-rs-bw) and COLLADA
+//! (mesh-loader, checked in `collada.rs`).
 //! Each reader returns raw vertices and triangles; validation happens in `TriMesh::new`.
 //!
 //! Decisions, each from a file seen in the wild:
@@ -34,6 +35,7 @@ pub(super) fn load_file(path: &Path) -> Result<Raw, MeshError> {
         Some("obj") => "OBJ",
         Some("stl") => "STL",
         Some("ply") => "PLY",
+        Some("dae") => "COLLADA",
         _ => {
             return Err(MeshError::UnknownFormat {
                 path: path.to_path_buf(),
@@ -55,7 +57,34 @@ pub(super) fn load_file(path: &Path) -> Result<Raw, MeshError> {
         "OBJ" => read_obj(bytes).map_err(|(line, m)| parse_error(line, m)),
         "STL" if is_binary_stl(bytes) => read_binary_stl(bytes).map_err(|m| parse_error(None, m)),
         "STL" => read_ascii_stl(bytes).map_err(|(line, m)| parse_error(line, m)),
-        _ => read_ply(bytes).map_err(|m| parse_error(None, m)),
+        "PLY" => read_ply(bytes).map_err(|m| parse_error(None, m)),
+        _ => super::collada::read_dae(bytes).map_err(|m| parse_error(None, m)),
+    }
+}
+
+/// Vertices merged by exact position (bit for bit) as they are read: the id of each.
+#[derive(Default)]
+pub(super) struct VertexIndex {
+    vertices: Vec<Vec3>,
+    ids: std::collections::HashMap<[u64; 3], u32>,
+}
+
+impl VertexIndex {
+    /// The id of the vertex at `v`, a new one if no vertex was there yet.
+    pub(super) fn id(&mut self, v: Vec3) -> Result<u32, String> {
+        let key = [v.x.to_bits(), v.y.to_bits(), v.z.to_bits()];
+        if let Some(&id) = self.ids.get(&key) {
+            return Ok(id);
+        }
+        let id = index_u32(self.vertices.len())?;
+        self.vertices.push(v);
+        self.ids.insert(key, id);
+        Ok(id)
+    }
+
+    /// The distinct vertices, in order of their ids.
+    pub(super) fn into_vertices(self) -> Vec<Vec3> {
+        self.vertices
     }
 }
 
@@ -195,8 +224,7 @@ fn read_ascii_stl(bytes: &[u8]) -> Result<Raw, (Option<usize>, String)> {
             format!("neither a binary STL (wrong size) nor ASCII text ({e})"),
         )
     })?;
-    let mut vertices: Vec<Vec3> = Vec::new();
-    let mut index: std::collections::HashMap<[u64; 3], u32> = std::collections::HashMap::new();
+    let mut index = VertexIndex::default();
     let mut triangles = Vec::new();
     let mut facet: Option<(usize, Vec<u32>)> = None; // (line, vertex indices)
     let mut seen_solid = false;
@@ -228,17 +256,7 @@ fn read_ascii_stl(bytes: &[u8]) -> Result<Raw, (Option<usize>, String)> {
                         format!("a vertex needs 3 numbers, got {}", coords.len()),
                     ));
                 };
-                let key = [x.to_bits(), y.to_bits(), z.to_bits()];
-                let id = match index.get(&key) {
-                    Some(&id) => id,
-                    None => {
-                        let id = index_u32(vertices.len()).map_err(|m| (Some(n), m))?;
-                        vertices.push(Vec3::new(x, y, z));
-                        index.insert(key, id);
-                        id
-                    }
-                };
-                corners.push(id);
+                corners.push(index.id(Vec3::new(x, y, z)).map_err(|m| (Some(n), m))?);
             }
             "endfacet" => {
                 let Some((start, corners)) = facet.take() else {
@@ -264,7 +282,7 @@ fn read_ascii_stl(bytes: &[u8]) -> Result<Raw, (Option<usize>, String)> {
     if !seen_solid {
         return Err((None, "no `solid`: not an ASCII STL".into()));
     }
-    Ok((vertices, triangles))
+    Ok((index.into_vertices(), triangles))
 }
 
 /// Checks that a binary PLY's payload can hold the elements its header declares (module docs):

@@ -6,6 +6,7 @@
 //! Construction validates the input (finite coordinates, indices in range, at least one
 //! triangle) and builds the [`Bvh`] used by every query. The caller's data is never modified.
 
+mod collada;
 mod generate;
 mod load;
 
@@ -105,8 +106,10 @@ impl TriMesh {
         Ok(Self::assemble(verts, triangles, bvh))
     }
 
-    /// Loads a mesh from an OBJ, STL (ASCII or binary) or PLY file, chosen by extension.
-    /// Polygons are triangulated; all objects of an OBJ file are merged into one soup.
+    /// Loads a mesh from an OBJ, STL (ASCII or binary), PLY or COLLADA (`.dae`) file, chosen
+    /// by extension. Polygons are triangulated; all objects of an OBJ file, and every geometry
+    /// a COLLADA file's visual scene places (with its nodes' transforms and the unit), are
+    /// merged into one soup.
     pub fn load(path: impl AsRef<std::path::Path>) -> Result<Self, MeshError> {
         let path = path.as_ref();
         let (vertices, triangles) = load::load_file(path)?;
@@ -249,7 +252,8 @@ impl TriMesh {
         })
     }
 
-    /// The vertices and triangles of an OBJ, STL or PLY file, without building a mesh.
+    /// The vertices and triangles of an OBJ, STL, PLY or COLLADA file, without building a
+    /// mesh.
     ///
     /// # Errors
     /// As [`TriMesh::load`].

@@ -2,8 +2,8 @@
 //! resolved, mesh paths resolved, collision geometry gathered per link.
 //!
 //! Decisions: only `<collision>` elements are used (never `<visual>`); a link without them has
-//! no collision object. Meshes are read by the crate's loaders (OBJ, STL, PLY); COLLADA (`.dae`)
-//! is refused with an error that says so (convert it to OBJ or STL). Configuration entries are
+//! no collision object. Meshes are read by the crate's loaders (OBJ, STL, PLY, COLLADA: see
+//! `mesh/collada.rs` for what of a `.dae` is read). Configuration entries are
 //! the revolute, continuous and prismatic joints that are not mimics, in the order the file
 //! lists them. A continuous joint has infinite limits; a revolute or prismatic joint whose
 //! limits are missing or reversed is refused.
@@ -31,11 +31,40 @@ pub(super) fn from_str(
     package_dirs: &[PathBuf],
     origin: PathBuf,
 ) -> Result<Robot, RobotError> {
-    let model = urdf_rs::read_from_string(xml).map_err(|e| RobotError::Parse {
+    build(&parse(xml, origin)?, base_dir, package_dirs, None)
+}
+
+/// The URDF text parsed by urdf-rs, with every `<texture>` that has no `filename` left out
+/// first: urdf-rs requires one, urdfdom (ROS's parser) does not, and iCub's and Romeo's URDFs
+/// in example-robot-data write `<texture />` in their visual materials, which are never read
+/// here.
+fn parse(xml: &str, origin: PathBuf) -> Result<urdf_rs::Robot, RobotError> {
+    let options = roxmltree::ParsingOptions {
+        allow_dtd: true,
+        ..Default::default()
+    };
+    let mut text = std::borrow::Cow::Borrowed(xml);
+    if let Ok(doc) = roxmltree::Document::parse_with_options(xml, options) {
+        let empty: Vec<std::ops::Range<usize>> = doc
+            .descendants()
+            .filter(|n| n.has_tag_name("texture") && n.attribute("filename").is_none())
+            .map(|n| n.range())
+            .collect();
+        if !empty.is_empty() {
+            let mut kept = String::with_capacity(xml.len());
+            let mut from = 0;
+            for r in empty {
+                kept.push_str(&xml[from..r.start]);
+                from = r.end;
+            }
+            kept.push_str(&xml[from..]);
+            text = std::borrow::Cow::Owned(kept);
+        }
+    }
+    urdf_rs::read_from_string(&text).map_err(|e| RobotError::Parse {
         path: origin,
         message: e.to_string(),
-    })?;
-    build(&model, base_dir, package_dirs, None)
+    })
 }
 
 /// The vertices and triangles of a mesh file, before any URDF scale.
@@ -49,10 +78,7 @@ pub(super) fn from_str_with(
     package_dirs: &[PathBuf],
     provided: &HashMap<String, RawMesh>,
 ) -> Result<Robot, RobotError> {
-    let model = urdf_rs::read_from_string(xml).map_err(|e| RobotError::Parse {
-        path: PathBuf::from("<string>"),
-        message: e.to_string(),
-    })?;
+    let model = parse(xml, PathBuf::from("<string>"))?;
     build(&model, base_dir, package_dirs, Some(provided))
 }
 
@@ -63,10 +89,7 @@ pub(super) fn mesh_files(
     base_dir: Option<&Path>,
     package_dirs: &[PathBuf],
 ) -> Result<Vec<(String, PathBuf)>, RobotError> {
-    let model = urdf_rs::read_from_string(xml).map_err(|e| RobotError::Parse {
-        path: PathBuf::from("<string>"),
-        message: e.to_string(),
-    })?;
+    let model = parse(xml, PathBuf::from("<string>"))?;
     let mut out: Vec<(String, PathBuf)> = Vec::new();
     for link in &model.links {
         for c in &link.collision {
@@ -425,7 +448,7 @@ fn geometry(
     })
 }
 
-/// A URDF mesh file's vertices and triangles (COLLADA refused).
+/// A URDF mesh file's vertices and triangles.
 fn read_mesh(
     link: &str,
     filename: &str,
@@ -433,16 +456,6 @@ fn read_mesh(
     package_dirs: &[PathBuf],
 ) -> Result<RawMesh, RobotError> {
     let path = resolve(link, filename, base_dir, package_dirs)?;
-    if path
-        .extension()
-        .and_then(|e| e.to_str())
-        .is_some_and(|e| e.eq_ignore_ascii_case("dae"))
-    {
-        return Err(RobotError::Model(format!(
-            "link {link:?}: {} is COLLADA (.dae), which is not read: convert it to OBJ or STL",
-            path.display()
-        )));
-    }
     TriMesh::load_raw(&path).map_err(|source| RobotError::Mesh {
         link: link.to_string(),
         source,
