@@ -8,7 +8,7 @@ VPY := $(VENV)/bin/python
 VENV_NP1 := .venv-numpy1
 CARGO ?= cargo
 
-.PHONY: demo test venv develop wheel lint rust-test py-test bench bench-python bench-robots bench-parry clean
+.PHONY: demo test venv develop wheel lint rust-test py-test bench bench-python bench-robots bench-robot-data bench-parry clean
 
 demo:
 	$(CARGO) run --release -q -p tocsin --example demo
@@ -20,14 +20,15 @@ demo:
 
 # Build tools live in .venv; the wheel is tested in .venv (numpy 2.x), and a fresh .venv-numpy1
 # (numpy 1.26) installs the package with `pip install .` from the clone, as a user would. Both
-# get what the tests use (matplotlib, trimesh, pybullet for its pybullet_data meshes and as the
+# get what the tests use (matplotlib, trimesh with pycollada as the second COLLADA reader,
+# pybullet for its pybullet_data meshes and as the
 # second forward-kinematics implementation, ompl for the planning example, scipy's ConvexHull as
 # the penetration-depth oracle, ray for tocsin.distributed on a local cluster): no test
 # skips itself.
 $(VPY):
 	$(PYTHON) -m venv $(VENV)
 	$(VPY) -m pip install -q --upgrade pip
-	$(VPY) -m pip install -q "maturin>=1.5,<2" "numpy>=2" pytest mypy matplotlib trimesh pybullet ompl scipy ray tqdm
+	$(VPY) -m pip install -q "maturin>=1.5,<2" "numpy>=2" pytest mypy matplotlib trimesh pycollada pybullet ompl scipy ray tqdm
 
 venv: $(VPY)
 
@@ -57,7 +58,7 @@ py-test: wheel
 	$(VPY) -m mypy.stubtest tocsin._core --allowlist crates/tocsin-py/stubtest-allowlist.txt
 	rm -rf $(VENV_NP1)
 	$(PYTHON) -m venv $(VENV_NP1)
-	$(VENV_NP1)/bin/python -m pip install -q "numpy>=1.26,<2" pytest matplotlib trimesh pybullet ompl scipy ray tqdm
+	$(VENV_NP1)/bin/python -m pip install -q "numpy>=1.26,<2" pytest matplotlib trimesh pycollada pybullet ompl scipy ray tqdm
 	$(VENV_NP1)/bin/python -m pip install -q .
 	$(VENV_NP1)/bin/python -c "import numpy, tocsin; assert numpy.__version__.startswith('1.'), numpy.__version__"
 	$(VENV_NP1)/bin/python -m pytest -q crates/tocsin-py/tests
@@ -87,6 +88,13 @@ bench-python: develop
 bench-robots: develop
 	$(VPY) -m pip install -q pin coal hpp-python pyyaml
 	$(VPY) bench/robot_mbm.py --robots panda
+
+# example-robot-data's 69 URDFs and 286 COLLADA files beside Pinocchio + coal (and trimesh for
+# the COLLADA files); downloads the example-robot-data wheel once, into ~/.cache/tocsin-bench.
+# Not part of `make bench`.
+bench-robot-data: develop
+	$(VPY) -m pip install -q pin coal trimesh pycollada scipy
+	$(VPY) bench/example_robot_data.py
 
 # parry3d-f64's shape casts next to tocsin (its own cargo workspace, not built by `make test`).
 bench-parry:

@@ -8,9 +8,10 @@
 //! Decisions:
 //! - Read: every `<instance_geometry>` of the visual scene (`<scene><instance_visual_scene>`),
 //!   through its nodes and the `<instance_node>`s they use (from `<library_nodes>`), each
-//!   placed by its nodes' `matrix` (written row by row), `translate`, `rotate` (axis, degrees)
-//!   and `scale` elements, composed in document order, parents first; a geometry instanced
-//!   twice is read twice. A geometry the scene does not place is not read (nor does assimp,
+//!   placed by its nodes' `matrix` (written row by row), `translate`, `rotate` (axis, degrees;
+//!   the axis normalised, as OpenGL's `glRotate`, which the specification cites, does: assimp
+//!   and pycollada take it as written, and a long axis then scales too) and `scale` elements,
+//!   composed in document order, parents first; a geometry instanced twice is read twice. A geometry the scene does not place is not read (nor does assimp,
 //!   coal's loader, read it). Of a geometry, its triangles, polygons and polylists (fanned);
 //!   lines and points are not surfaces and are skipped.
 //! - `<unit meter>` scales the whole scene, as ROS does (RViz and MoveIt rescale by it); coal
@@ -334,6 +335,10 @@ mod tests {
         }
         // (1, 0, 0) -> scaled (2, 0, 0) -> (2, 0, 5) -> rotated (0, 2, 5) -> (10, 2, 5).
         assert!(close(got[0][1], Vec3::new(10.0, 2.0, 5.0)));
+        // The axis is normalised (OpenGL's glRotate, which the specification follows; assimp
+        // and pycollada use it as written, which scales as well as turns).
+        let long = scene.replace("0 0 1 90", "0 0 3 90");
+        assert_eq!(corners(&read(&dae("1", "", &long))), got);
     }
 
     #[test]
