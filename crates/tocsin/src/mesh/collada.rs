@@ -11,9 +11,10 @@
 //!   placed by its nodes' `matrix` (written row by row), `translate`, `rotate` (axis, degrees;
 //!   the axis normalised, as OpenGL's `glRotate`, which the specification cites, does: assimp
 //!   and pycollada take it as written, and a long axis then scales too) and `scale` elements,
-//!   composed in document order, parents first; a geometry instanced twice is read twice. A geometry the scene does not place is not read (nor does assimp,
-//!   coal's loader, read it). Of a geometry, its triangles, polygons and polylists (fanned);
-//!   lines and points are not surfaces and are skipped.
+//!   composed in document order, parents first; a geometry instanced twice is read twice. A
+//!   geometry the scene does not place is not read (nor does assimp, coal's loader, read it).
+//!   Of a geometry, its triangles, polygons and polylists (fanned); lines and points are not
+//!   surfaces and are skipped.
 //! - `<unit meter>` scales the whole scene, as ROS does (RViz and MoveIt rescale by it); coal
 //!   (assimp without its global-scale step) ignores it, so the two agree only on metre files,
 //!   every file of example-robot-data.
