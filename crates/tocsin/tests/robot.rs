@@ -215,7 +215,7 @@ fn write_dae(path: &Path, mesh: &TriMesh) {
 }
 
 #[test]
-fn collada_meshes_load_with_their_units_and_nodes_and_empty_textures_are_ignored() {
+fn collada_meshes_load_with_units_and_nodes_and_what_urdfdom_ignores_is_ignored() {
     let dir = scratch("collada");
     let cube = tocsin::mesh::box_mesh(Vec3::new(0.1, 0.2, 0.3)).unwrap();
     write_dae(&dir.join("box.dae"), &cube);
@@ -223,9 +223,17 @@ fn collada_meshes_load_with_their_units_and_nodes_and_empty_textures_are_ignored
     // filename there, urdfdom does not.
     let visual = "<visual><geometry><box size='1 1 1'/></geometry><material name='m'>\
                   <texture /><color rgba='0 0 0 1'/></material></visual>";
+    // ROS extensions beside the links, and a visual that urdf-rs cannot read (pybullet's
+    // racecar puts a <material> inside its <geometry>): none of it is read.
+    let visual = format!(
+        "{visual}<visual><geometry><mesh filename='nowhere.obj'/><material name='grey'/>\
+         </geometry></visual>"
+    );
+    let extensions = "<gazebo reference='a'><mu1 value='1'/><material>Gazebo/Blue</material>\
+                      </gazebo><transmission name='t'><type>x</type></transmission>";
     let xml = robot_xml(&format!(
         "<link name='a'>{visual}<collision><geometry><mesh filename='box.dae'/></geometry>\
-         </collision></link>"
+         </collision></link>{extensions}"
     ));
     let robot = Robot::from_urdf_str(&xml, Some(&dir), &[]).unwrap();
     let mesh = &robot.objects()[0].mesh;

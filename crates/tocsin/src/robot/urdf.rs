@@ -34,10 +34,12 @@ pub(super) fn from_str(
     build(&parse(xml, origin)?, base_dir, package_dirs, None)
 }
 
-/// The URDF text parsed by urdf-rs, with every `<texture>` that has no `filename` left out
-/// first: urdf-rs requires one, urdfdom (ROS's parser) does not, and iCub's and Romeo's URDFs
-/// in example-robot-data write `<texture />` in their visual materials, which are never read
-/// here.
+/// The URDF text parsed by urdf-rs, with what is never read here and what urdf-rs trips on
+/// where urdfdom (ROS's parser) does not left out first: every `<visual>` (pybullet's racecar
+/// writes a `<material>` inside a visual's `<geometry>`), every `<texture>` without a
+/// `filename` (urdf-rs requires one; iCub's and Romeo's URDFs in example-robot-data write
+/// `<texture />` in materials), and every element of `<robot>` other than `<link>`, `<joint>`
+/// and `<material>` (`<gazebo>`, `<transmission>`, `<ros2_control>` and other extensions).
 fn parse(xml: &str, origin: PathBuf) -> Result<urdf_rs::Robot, RobotError> {
     let options = roxmltree::ParsingOptions {
         allow_dtd: true,
@@ -45,17 +47,32 @@ fn parse(xml: &str, origin: PathBuf) -> Result<urdf_rs::Robot, RobotError> {
     };
     let mut text = std::borrow::Cow::Borrowed(xml);
     if let Ok(doc) = roxmltree::Document::parse_with_options(xml, options) {
-        let empty: Vec<std::ops::Range<usize>> = doc
+        let robot = doc.root_element();
+        let extension = |n: &roxmltree::Node<'_, '_>| {
+            n.parent() == Some(robot)
+                && n.is_element()
+                && !["link", "joint", "material"].contains(&n.tag_name().name())
+        };
+        let mut cut: Vec<std::ops::Range<usize>> = doc
             .descendants()
-            .filter(|n| n.has_tag_name("texture") && n.attribute("filename").is_none())
+            .filter(|n| {
+                (n.has_tag_name("texture") && n.attribute("filename").is_none())
+                    || (n.has_tag_name("visual")
+                        && n.parent().is_some_and(|p| p.has_tag_name("link")))
+                    || extension(n)
+            })
             .map(|n| n.range())
             .collect();
-        if !empty.is_empty() {
+        if !cut.is_empty() {
+            cut.sort_by_key(|r| r.start);
             let mut kept = String::with_capacity(xml.len());
             let mut from = 0;
-            for r in empty {
-                kept.push_str(&xml[from..r.start]);
-                from = r.end;
+            for r in cut {
+                // A texture inside a cut visual or extension is cut with it.
+                if r.start >= from {
+                    kept.push_str(&xml[from..r.start]);
+                    from = r.end;
+                }
             }
             kept.push_str(&xml[from..]);
             text = std::borrow::Cow::Owned(kept);
