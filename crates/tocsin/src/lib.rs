@@ -20,6 +20,7 @@ pub mod motion;
 pub mod query;
 pub mod robot;
 pub mod world;
+mod xml;
 
 pub use error::{ContactError, MeshError, MotionError, OptionsError, PoseError};
 pub use math::{Mat3, Mat4, Pose, Vec3};

@@ -161,23 +161,13 @@ impl<'a, 'i> Placements<'a, 'i> {
 /// The text without the elements that place geometry, so that mesh-loader reads each geometry
 /// in its own frame (its placement is wrong; module docs).
 fn without_scene(text: &str, doc: &roxmltree::Document<'_>) -> String {
-    let mut cut: Vec<std::ops::Range<usize>> = doc
+    let cut = doc
         .descendants()
         .filter(|n| n.has_tag_name("library_visual_scenes") || n.has_tag_name("scene"))
         .filter(|n| n.parent() == Some(doc.root_element()))
         .map(|n| n.range())
         .collect();
-    cut.sort_by_key(|r| r.start);
-    let mut out = String::with_capacity(text.len());
-    let mut from = 0;
-    for r in cut {
-        if r.start >= from {
-            out.push_str(&text[from..r.start]);
-            from = r.end;
-        }
-    }
-    out.push_str(&text[from..]);
-    out
+    crate::xml::without(text, cut)
 }
 
 /// Each geometry's local triangles, by id, as mesh-loader reads them.
@@ -195,11 +185,7 @@ fn local_geometries(text: &str) -> Result<HashMap<String, Local>, String> {
 /// A COLLADA file's vertices and triangles (module docs).
 pub(super) fn read_dae(bytes: &[u8]) -> Result<Raw, String> {
     let text = std::str::from_utf8(bytes).map_err(|e| format!("not UTF-8 text ({e})"))?;
-    let options = roxmltree::ParsingOptions {
-        allow_dtd: true,
-        ..Default::default()
-    };
-    let doc = roxmltree::Document::parse_with_options(text, options).map_err(|e| e.to_string())?;
+    let doc = crate::xml::parse(text).map_err(|e| e.to_string())?;
     // Each node's depth from its parent's, in document order (parents come first).
     let mut depth = vec![0usize; doc.descendants().count()];
     for node in doc.descendants() {

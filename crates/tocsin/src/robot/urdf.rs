@@ -41,19 +41,15 @@ pub(super) fn from_str(
 /// `<texture />` in materials), and every element of `<robot>` other than `<link>`, `<joint>`
 /// and `<material>` (`<gazebo>`, `<transmission>`, `<ros2_control>` and other extensions).
 fn parse(xml: &str, origin: PathBuf) -> Result<urdf_rs::Robot, RobotError> {
-    let options = roxmltree::ParsingOptions {
-        allow_dtd: true,
-        ..Default::default()
-    };
     let mut text = std::borrow::Cow::Borrowed(xml);
-    if let Ok(doc) = roxmltree::Document::parse_with_options(xml, options) {
+    if let Ok(doc) = crate::xml::parse(xml) {
         let robot = doc.root_element();
         let extension = |n: &roxmltree::Node<'_, '_>| {
             n.parent() == Some(robot)
                 && n.is_element()
                 && !["link", "joint", "material"].contains(&n.tag_name().name())
         };
-        let mut cut: Vec<std::ops::Range<usize>> = doc
+        let cut: Vec<std::ops::Range<usize>> = doc
             .descendants()
             .filter(|n| {
                 (n.has_tag_name("texture") && n.attribute("filename").is_none())
@@ -64,18 +60,8 @@ fn parse(xml: &str, origin: PathBuf) -> Result<urdf_rs::Robot, RobotError> {
             .map(|n| n.range())
             .collect();
         if !cut.is_empty() {
-            cut.sort_by_key(|r| r.start);
-            let mut kept = String::with_capacity(xml.len());
-            let mut from = 0;
-            for r in cut {
-                // A texture inside a cut visual or extension is cut with it.
-                if r.start >= from {
-                    kept.push_str(&xml[from..r.start]);
-                    from = r.end;
-                }
-            }
-            kept.push_str(&xml[from..]);
-            text = std::borrow::Cow::Owned(kept);
+            // A texture inside a cut visual or extension goes with it.
+            text = std::borrow::Cow::Owned(crate::xml::without(xml, cut));
         }
     }
     urdf_rs::read_from_string(&text).map_err(|e| RobotError::Parse {
