@@ -26,7 +26,9 @@
 //! - Refused with an error that says why: `<instance_controller>` (skinned geometry),
 //!   `<trifans>` (mesh-loader reads fans as strips), `lookat` and `skew` transforms, a URL
 //!   outside the file, an instanced node or geometry the file lacks, nodes instanced more than
-//!   64 deep (a cycle), elements nested more than 256 deep, and a file without a visual scene.
+//!   64 deep (a cycle), elements nested more than 256 deep, more than 100,000 placements or
+//!   100 million placed triangles (library nodes instancing each other twice over multiply
+//!   them), and a file without a visual scene.
 //! - mesh-loader panics on some malformed geometry (an index past its array, missing normals);
 //!   the panic is caught and becomes a parse error.
 
@@ -39,6 +41,13 @@ type Raw = (Vec<Vec3>, Vec<[u32; 3]>);
 
 /// Deepest chain of `<instance_node>` followed (a deeper one is taken for a cycle).
 const MAX_DEPTH: usize = 64;
+
+/// Most placements of geometry read: library nodes instancing each other twice over, 64 deep,
+/// would place a geometry 2^64 times. Robot files place a few.
+const MAX_PLACEMENTS: usize = 100_000;
+
+/// Most triangles placed in all (each placement copies its geometry's).
+const MAX_TRIANGLES: usize = 100_000_000;
 
 /// Deepest nesting of XML elements read: mesh-loader parses nested elements by recursion, and
 /// 100,000 nested `<node>`s overflowed the stack (forty-third session). COLLADA files nest a
@@ -146,6 +155,11 @@ impl<'a, 'i> Placements<'a, 'i> {
                 "instance_geometry" => {
                     let g = by_url(child.attribute("url"), "geometry", &self.geometries)?;
                     let id = g.attribute("id").unwrap_or("");
+                    if self.found.len() == MAX_PLACEMENTS {
+                        return Err(format!(
+                            "the scene places geometry more than {MAX_PLACEMENTS} times"
+                        ));
+                    }
                     self.found.push((id, m));
                 }
                 "instance_controller" => {
@@ -231,6 +245,16 @@ pub(super) fn read_dae(bytes: &[u8]) -> Result<Raw, String> {
     };
     placements.walk(scene, Mat4::from_scale(Vec3::splat(unit)), 0)?;
     let local = local_geometries(&without_scene(text, &doc))?;
+    let placed: usize = placements
+        .found
+        .iter()
+        .map(|(id, _)| local.get(*id).map_or(0, |(_, faces)| faces.len()))
+        .sum();
+    if placed > MAX_TRIANGLES {
+        return Err(format!(
+            "the scene places {placed} triangles, more than {MAX_TRIANGLES}"
+        ));
+    }
     let mut index = VertexIndex::default();
     let mut triangles = Vec::new();
     for (id, m) in &placements.found {
@@ -423,6 +447,25 @@ mod tests {
                 "deep",
             ),
             ("<COLLADA/>".to_string(), "instance_visual_scene"),
+            (
+                // Each library node instances the next twice: 2^40 placements.
+                dae(
+                    "1",
+                    &format!(
+                        "<library_nodes>{}<node id='n40'><instance_geometry url='#g'/></node>\
+                         </library_nodes>",
+                        (0..40)
+                            .map(|k| format!(
+                                "<node id='n{k}'><instance_node url='#n{0}'/>\
+                                 <instance_node url='#n{0}'/></node>",
+                                k + 1
+                            ))
+                            .collect::<String>()
+                    ),
+                    "<node><instance_node url='#n0'/></node>",
+                ),
+                "100000 times",
+            ),
             (
                 format!(
                     "<COLLADA>{}{}</COLLADA>",
