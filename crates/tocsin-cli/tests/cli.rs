@@ -697,6 +697,19 @@ fn rain_forty_bodies_never_freeze() {
 }
 
 #[test]
+fn rain_of_160_bodies_settles_without_freezing() {
+    // 160 bodies settling in the bin need more than 400 contacts in some steps (spread over
+    // hundreds of pairs): a fixed budget of 400 froze 37 of 90 steps of this run.
+    let (code, out, err) = tocsin(&["rain", "--bodies", "160", "--steps", "90", "--seed", "1"]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["frozen_steps"], 0, "{v}");
+    assert_eq!(v["tunnelled_bodies"], 0, "{v}");
+    assert_eq!(v["intersecting_pairs"], 0, "{v}");
+    assert!(v["in_bin"].as_u64().unwrap() > 100, "{v}");
+}
+
+#[test]
 fn rain_never_tunnels_and_draws_its_frames() {
     let dir = std::env::temp_dir().join(format!("tocsin-rain-{}", std::process::id()));
     let (code, out, err) = tocsin(&[
