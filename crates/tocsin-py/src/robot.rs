@@ -33,8 +33,8 @@ pub(crate) fn robot_error(py: Python<'_>, e: RobotError) -> PyErr {
 
 /// An articulated robot from URDF: bodies (links merged over fixed joints), moving joints
 /// (revolute, continuous, prismatic, mimic), each link's collision geometry as one polygon soup
-/// (meshes with their scale; boxes exactly; spheres, cylinders and capsules as tessellations
-/// that contain the true shape), and the link pairs checked for self-collision (all but
+/// (OBJ, STL, PLY or COLLADA meshes with their scale; boxes exactly; spheres, cylinders and
+/// capsules as tessellations that contain the true shape), and the link pairs checked for self-collision (all but
 /// adjacent bodies, SRDF-disabled pairs, pairs you allow, attachments and their touch links).
 ///
 /// Configurations are float arrays of shape (dof,) in the order of `joint_names` (the actuated

@@ -326,9 +326,10 @@ _Path = Union[str, "PathLike[str]"]
 @final
 class Robot:
     """An articulated robot from URDF: links merged over fixed joints, revolute, continuous,
-    prismatic and mimic joints, each link's collision geometry as one polygon soup (primitives
-    as tessellations that contain the true shape), and the link pairs checked for
-    self-collision (all but adjacent bodies, SRDF-disabled pairs, allowed pairs, attachments).
+    prismatic and mimic joints, each link's collision geometry as one polygon soup (OBJ, STL,
+    PLY or COLLADA meshes; primitives as tessellations that contain the true shape), and the
+    link pairs checked for self-collision (all but adjacent bodies, SRDF-disabled pairs,
+    allowed pairs, attachments).
 
     Configurations are float arrays of shape (dof,) in the order of `joint_names`.
     """
