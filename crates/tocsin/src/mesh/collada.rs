@@ -231,7 +231,13 @@ pub(super) fn read_dae(bytes: &[u8]) -> Result<Raw, String> {
         .find(|n| n.has_tag_name("instance_visual_scene"))
         .ok_or_else(|| "no <instance_visual_scene>: nothing places the geometry".to_string())?;
     let scene = by_url(instance.attribute("url"), "visual scene", &scenes)?;
-    let unit = match doc.descendants().find(|n| n.has_tag_name("unit")) {
+    // The document's own `<asset>` (assets nested in geometry or nodes describe those only).
+    let root_unit = doc
+        .root_element()
+        .children()
+        .find(|n| n.has_tag_name("asset"))
+        .and_then(|a| a.children().find(|n| n.has_tag_name("unit")));
+    let unit = match root_unit {
         Some(u) => match u.attribute("meter") {
             Some(m) => m
                 .trim()
@@ -358,6 +364,15 @@ mod tests {
             r##"<node><translate>10 20 30</translate><instance_geometry url="#g"/></node>"##;
         let metre = corners(&read(&dae("1", "", scene)));
         let milli = corners(&read(&dae("0.001", "", scene)));
+        // A unit in a geometry's own asset is not the document's (which has none here: metres).
+        let nested = dae("1", "", scene)
+            .replace("<unit name=\"u\" meter=\"1\"/>", "")
+            .replace(
+                "<geometry id=\"g\">",
+                "<geometry id=\"g\"><asset><unit meter=\"0.5\"/></asset>",
+            );
+        assert!(!nested.contains("meter=\"1\""));
+        assert_eq!(corners(&read(&nested)), metre);
         for (a, b) in metre[0].iter().zip(&milli[0]) {
             assert!(close(*b, *a * 0.001), "{a} {b}");
         }
