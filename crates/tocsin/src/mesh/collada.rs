@@ -15,9 +15,10 @@
 //!   geometry the scene does not place is not read (nor does assimp, coal's loader, read it).
 //!   Of a geometry, its triangles, polygons and polylists (fanned); lines and points are not
 //!   surfaces and are skipped.
-//! - `<unit meter>` scales the whole scene, as ROS does (RViz and MoveIt rescale by it); coal
-//!   (assimp without its global-scale step) ignores it, so the two agree only on metre files,
-//!   every file of example-robot-data.
+//! - The document's `<asset><unit meter>` (not one nested in a geometry or node) scales the
+//!   whole scene, as ROS does (RViz and MoveIt rescale by it); coal (assimp without its
+//!   global-scale step) ignores it, so the two agree only on metre files, every file of
+//!   example-robot-data.
 //! - `<up_axis>` is ignored: a `Y_UP` file's coordinates are taken as written, in the link's
 //!   frame, as ROS (which resets the root rotation assimp adds) and coal do.
 //! - mesh-loader reads coordinates as `f32`; the transforms are applied in `f64`. A position
