@@ -686,26 +686,28 @@ fn rain_forty_bodies_never_freeze() {
     // wall), 64 and 95 (bodies rocking on two contacts at once) froze 32 to 66 of 90 steps
     // before the forty-third.
     for seed in ["3", "4", "35", "64", "95"] {
-        let (code, out, err) = tocsin(&["rain", "--bodies", "40", "--steps", "90", "--seed", seed]);
-        assert_eq!(code, 0, "{err}");
-        let v: serde_json::Value = serde_json::from_str(&out).unwrap();
-        assert_eq!(v["frozen_steps"], 0, "seed {seed}: {v}");
-        assert_eq!(v["tunnelled_bodies"], 0, "seed {seed}: {v}");
-        assert_eq!(v["intersecting_pairs"], 0, "seed {seed}: {v}");
+        let v = rain_never_freezes("40", seed);
         assert!(v["spins_stopped"].as_u64().unwrap() > 0, "seed {seed}: {v}");
     }
+}
+
+/// `tocsin rain` with `bodies` bodies for 90 steps: no frozen step, no tunnelling, no
+/// intersection; its JSON.
+fn rain_never_freezes(bodies: &str, seed: &str) -> serde_json::Value {
+    let (code, out, err) = tocsin(&["rain", "--bodies", bodies, "--steps", "90", "--seed", seed]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    for key in ["frozen_steps", "tunnelled_bodies", "intersecting_pairs"] {
+        assert_eq!(v[key], 0, "{bodies} bodies, seed {seed}: {v}");
+    }
+    v
 }
 
 #[test]
 fn rain_of_160_bodies_settles_without_freezing() {
     // 160 bodies settling in the bin need more than 400 contacts in some steps (spread over
     // hundreds of pairs): a fixed budget of 400 froze 37 of 90 steps of this run.
-    let (code, out, err) = tocsin(&["rain", "--bodies", "160", "--steps", "90", "--seed", "1"]);
-    assert_eq!(code, 0, "{err}");
-    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
-    assert_eq!(v["frozen_steps"], 0, "{v}");
-    assert_eq!(v["tunnelled_bodies"], 0, "{v}");
-    assert_eq!(v["intersecting_pairs"], 0, "{v}");
+    let v = rain_never_freezes("160", "1");
     assert!(v["in_bin"].as_u64().unwrap() > 100, "{v}");
 }
 
