@@ -848,12 +848,18 @@ pub fn in_collision(robot: &Robot, q: &[f64], scene: &Scene) -> Result<bool, Rob
     robot.check_configuration(q, "q")?;
     let poses = robot.body_poses(q);
     let objects = &robot.objects;
-    let boxes: Vec<_> = objects
-        .iter()
-        .map(|o| WorldVolume::new(&o.mesh, &poses[o.body]).bounds)
-        .collect();
+    // Each object's world box when a pair first needs it: a colliding configuration stops at
+    // its first colliding pair, before most boxes are needed (callgrind, 300 random
+    // configurations of example-robot-data's robots: Tiago dual 15%, B1 7%, Panda 4% fewer
+    // instructions, none more).
+    let mut boxes: Vec<Option<(Vec3, Vec3)>> = vec![None; objects.len()];
+    let mut bounds = |i: usize| {
+        *boxes[i].get_or_insert_with(|| {
+            WorldVolume::new(&objects[i].mesh, &poses[objects[i].body]).bounds
+        })
+    };
     for &(a, b) in &robot.self_pairs {
-        if boxes_meet(&boxes[a], &boxes[b])
+        if boxes_meet(&bounds(a), &bounds(b))
             && collide(
                 &objects[a].mesh,
                 &poses[objects[a].body],
@@ -866,7 +872,7 @@ pub fn in_collision(robot: &Robot, q: &[f64], scene: &Scene) -> Result<bool, Rob
     }
     for (a, o) in objects.iter().enumerate() {
         for obs in &scene.obstacles {
-            if boxes_meet(&boxes[a], &obs.volume.bounds)
+            if boxes_meet(&bounds(a), &obs.volume.bounds)
                 && collide(&o.mesh, &poses[o.body], &obs.mesh, &obs.pose)
             {
                 return Ok(true);
