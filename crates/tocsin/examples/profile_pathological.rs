@@ -1,30 +1,17 @@
 //! The continuous-collision issue's pathological cases, timed once each (knot34k's median is
 //! about 0.5 ms for scale): a ball turning 90 degrees in a concentric socket at 0.3% clearance,
 //! a shaft turning 180 degrees in a bore at 0.4%, a knot of long slivers, knot34k on a far
-//! 180-degree screw, UV spheres meeting pole to pole. Usage: `profile_pathological [name]`.
+//! 180-degree screw, UV spheres meeting pole to pole; and two found since: a tapered shaft
+//! turning in its bore, a threaded bolt screwed in its nut. Usage: `profile_pathological
+//! [name]`.
+#[path = "../benches/common/mod.rs"]
+mod common;
+
 use std::time::Instant;
 use tocsin::{mesh, time_of_contact, ContactOptions, Mat3, Motion, Pose, TriMesh, Vec3};
 
 fn tube(r: f64, length: f64, n_around: usize, n_along: usize) -> Option<TriMesh> {
-    let mut v = Vec::new();
-    for i in 0..=n_along {
-        let h = -length / 2.0 + length * i as f64 / n_along as f64;
-        for j in 0..n_around {
-            let a = std::f64::consts::TAU * j as f64 / n_around as f64;
-            v.push(Vec3::new(r * a.cos(), r * a.sin(), h));
-        }
-    }
-    let mut f = Vec::new();
-    for i in 0..n_along {
-        for j in 0..n_around {
-            let p = (i * n_around + j) as u32;
-            let q = (i * n_around + (j + 1) % n_around) as u32;
-            let n = n_around as u32;
-            f.push([p, q, q + n]);
-            f.push([p, q + n, p + n]);
-        }
-    }
-    TriMesh::new(v, f).ok()
+    common::revolved(|_, _| r, length, n_around, n_along)
 }
 
 fn rot(axis: Vec3, deg: f64) -> Pose {
@@ -73,6 +60,39 @@ fn main() {
         if let (Some(shaft), Some(bore)) = (tube(1.0, 4.0, 256, 8), tube(1.004, 6.0, 256, 8)) {
             if let Ok(mo) = Motion::screw(Pose::IDENTITY, rot(Vec3::Z, 180.0)) {
                 run("shaft", &shaft, &mo, &bore, &still);
+            }
+        }
+    }
+    if want("taper") {
+        // A shaft tapering from radius 1 to 0.5 over its length 2, in a bore of the same taper
+        // 0.004 wider, turning half a turn.
+        let taper = |c: f64| move |_: f64, z: f64| 0.75 + c - 0.25 * z;
+        if let (Some(shaft), Some(bore)) = (
+            common::revolved(taper(0.0), 2.0, 256, 8),
+            common::revolved(taper(0.004), 2.0, 256, 8),
+        ) {
+            if let Ok(mo) = Motion::screw(Pose::IDENTITY, rot(Vec3::Z, 180.0)) {
+                run("taper", &shaft, &mo, &bore, &still);
+            }
+        }
+    }
+    if want("nut") {
+        // A bolt with a sinusoidal thread (pitch 0.5, depth 0.1) in a nut 0.01 wider, screwed
+        // half a turn along its thread.
+        let pitch = 0.5;
+        let thread = move |c: f64| {
+            move |a: f64, z: f64| 1.0 + c + 0.1 * (std::f64::consts::TAU * z / pitch - a).sin()
+        };
+        if let (Some(bolt), Some(nut)) = (
+            common::revolved(thread(0.0), 3.0, 256, 192),
+            common::revolved(thread(0.01), 1.0, 256, 64),
+        ) {
+            let end = Pose {
+                translation: Vec3::new(0.0, 0.0, pitch / 2.0),
+                ..rot(Vec3::Z, 180.0)
+            };
+            if let Ok(mo) = Motion::screw(Pose::IDENTITY, end) {
+                run("nut", &bolt, &mo, &nut, &still);
             }
         }
     }

@@ -4,6 +4,8 @@
 
 #![allow(clippy::unwrap_used, clippy::panic)]
 
+#[path = "../benches/common/mod.rs"]
+mod bench_common;
 mod common;
 use common::*;
 use rand::Rng;
@@ -831,24 +833,7 @@ fn cache_across_queries_gives_the_same_answers() {
 
 /// An open tube about the z axis: `n_around` x `n_along` quads, split in two.
 fn tube(r: f64, length: f64, n_around: usize, n_along: usize) -> TriMesh {
-    let mut v = Vec::new();
-    for i in 0..=n_along {
-        let h = -length / 2.0 + length * i as f64 / n_along as f64;
-        for j in 0..n_around {
-            let a = std::f64::consts::TAU * j as f64 / n_around as f64;
-            v.push(Vec3::new(r * a.cos(), r * a.sin(), h));
-        }
-    }
-    let mut f = Vec::new();
-    let n = n_around as u32;
-    for i in 0..n_along as u32 {
-        for j in 0..n {
-            let (p, q) = (i * n + j, i * n + (j + 1) % n);
-            f.push([p, q, q + n]);
-            f.push([p, q + n, p + n]);
-        }
-    }
-    TriMesh::new(v, f).unwrap()
+    bench_common::revolved(|_, _| r, length, n_around, n_along).unwrap()
 }
 
 fn turn(axis: Vec3, degrees: f64, translation: Vec3) -> Pose {
@@ -931,6 +916,47 @@ fn turning_in_close_fits_against_sampling() {
         Motion::screw(Pose::IDENTITY, turn(Vec3::Z, 180.0, Vec3::ZERO)).unwrap(),
         tube(1.004, 6.0, 128, 2),
     ));
+    // Tapers (radius 0.75 + c - z / 4 over z in [-1, 1], the bore 0.25 longer at the narrow
+    // end): the meridian certificates decide, the axis-aligned ranges overlapping along the
+    // slope. A 16-sided shaft 0.05 inside its bore is clear (its corners' sagitta is 0.02);
+    // 0.002 inside, its corners meet the bore's faces as it turns; a 128-sided one 0.004
+    // inside is clear (6.7 s before the meridian certificates, at 256 sides); pushed towards
+    // the narrow end while turning, the 16-sided one meets the bore.
+    let taper = |c: f64, sides: usize, rows: usize, length: f64| {
+        let shift = (length - 2.0) / 2.0;
+        let mesh = bench_common::revolved(
+            move |_, z| 0.75 + c - 0.25 * (z + shift),
+            length,
+            sides,
+            rows,
+        )
+        .unwrap();
+        let moved: Vec<Vec3> = mesh
+            .vertices()
+            .iter()
+            .map(|&p| p + Vec3::new(0.0, 0.0, shift))
+            .collect();
+        TriMesh::new(moved, mesh.triangles().to_vec()).unwrap()
+    };
+    let half_turn = Motion::screw(Pose::IDENTITY, turn(Vec3::Z, 180.0, Vec3::ZERO)).unwrap();
+    for (c, sides, rows) in [(0.05, 16, 4), (0.002, 16, 4), (0.004, 128, 2)] {
+        cases.push((
+            format!("{sides}-sided taper {c} inside its bore"),
+            taper(0.0, sides, rows, 2.0),
+            half_turn,
+            taper(c, sides, rows, 2.5),
+        ));
+    }
+    cases.push((
+        "taper pushed into its bore while turning".into(),
+        taper(0.0, 16, 4, 2.0),
+        Motion::screw(
+            Pose::IDENTITY,
+            turn(Vec3::Z, 180.0, Vec3::new(0.0, 0.0, 0.5)),
+        )
+        .unwrap(),
+        taper(0.05, 16, 4, 2.5),
+    ));
     let mut contacts = 0;
     for (label, turning, mo, fixed) in &cases {
         contacts += check(turning, mo, fixed, &still, None, label) as usize;
@@ -944,13 +970,13 @@ fn turning_in_close_fits_against_sampling() {
             &format!("{label}, swapped"),
         ) as usize;
     }
-    // The tight fits and the capped bore collide; the clear ones (1.02 socket, 1.1 bore, the
-    // 128-sided bore) not.
-    assert!(contacts >= 2 * (cases.len() - 3), "{contacts} contacts");
+    // The tight fits, the capped bore and the pushed taper collide; the clear ones (1.02
+    // socket, 1.1 bore, the 128-sided bore, the 0.05 and 128-sided tapers) not.
+    assert!(contacts >= 2 * (cases.len() - 5), "{contacts} contacts");
     // At the edge of the certificates: tolerances around the clear fits' closest approach.
     // With the closest at 0.4 of the tolerance a contact must be reported (a certificate
     // claiming more clearance than there is would miss it); at 0.9, none can be.
-    for (label, turning, mo, fixed) in [&cases[0], &cases[4], &cases[7]] {
+    for (label, turning, mo, fixed) in [&cases[0], &cases[4], &cases[7], &cases[8], &cases[10]] {
         let closest = oracle(turning, mo, fixed, &still).closest;
         let must = check(turning, mo, fixed, &still, Some(closest / 0.4), label);
         assert!(must, "{label}: no contact at tolerance {}", closest / 0.4);

@@ -457,7 +457,7 @@ impl<'a> StepSearch<'a> {
             // Only where the pair would be visited: the certificate is then worth its cost.
             Some(shells) if self.shells_on && step * (1.0 + self.slack) < self.best => {
                 let (t, h) = (self.t, self.window);
-                let mut lb = shells.lower_bound(&a.rss, &b.rss, t, h);
+                let mut lb = shells.lower_bound(&a.rss, &b.rss, (t, h), self.delta);
                 if lb <= self.delta {
                     let (index, turning, still) = if shells.turning_is_1() {
                         (n1, (self.bvh1, a), (self.bvh2, n2))
@@ -476,7 +476,7 @@ impl<'a> StepSearch<'a> {
                 if lb <= self.delta && a.is_leaf() && b.is_leaf() {
                     let t1 = &self.bvh1.leaf_triangles()[a.leaf_position() as usize];
                     let t2 = &self.bvh2.leaf_triangles()[b.leaf_position() as usize];
-                    lb = lb.max(shells.lower_bound_triangles(t1, t2, t, h));
+                    lb = lb.max(shells.lower_bound_triangles(t1, t2, (t, h), self.delta));
                 }
                 if lb > self.delta {
                     f64::INFINITY
@@ -485,6 +485,20 @@ impl<'a> StepSearch<'a> {
                 }
             }
             _ => step,
+        }
+    }
+
+    /// Whether the rotation certificates ([`AxisShells`]), when on, certify the triangle pair
+    /// for the whole window: the last iteration's closest pair, evaluated first, would
+    /// otherwise limit the step with its tangential speed though it can never meet.
+    fn certified_leaves(&self, leaf1: u32, leaf2: u32) -> bool {
+        match &self.shells {
+            Some(shells) if self.shells_on => {
+                let t1 = &self.bvh1.leaf_triangles()[leaf1 as usize];
+                let t2 = &self.bvh2.leaf_triangles()[leaf2 as usize];
+                shells.lower_bound_triangles(t1, t2, (self.t, self.window), self.delta) > self.delta
+            }
+            _ => false,
         }
     }
 
@@ -701,9 +715,17 @@ impl<'a> StepSearch<'a> {
         if let Some(out) = self.convex_iteration() {
             return out;
         }
+        if self.shells.is_some() && !self.shells_on && t == 0.0 {
+            // Decide before the first traversal, which without the certificates is the slowest
+            // (a ball in its socket: 57 ms of 92), and before the warm pair, which they may
+            // certify: probe the nearest pair of a dive.
+            let (l1, l2) = self.dive();
+            self.shells_on = self.rotation_limited(l1, l2);
+        }
         if let Some((l1, l2)) = warm {
             if (l1 as usize) < self.bvh1.leaf_triangles().len()
                 && (l2 as usize) < self.bvh2.leaf_triangles().len()
+                && !self.certified_leaves(l1, l2)
                 && self.leaf_pair(l1, l2)
             {
                 return StepOutcome::Within {
@@ -711,12 +733,6 @@ impl<'a> StepSearch<'a> {
                     closest: None,
                 };
             }
-        }
-        if self.shells.is_some() && !self.shells_on && t == 0.0 {
-            // Decide before the first traversal, which without the certificates is the
-            // slowest (a ball in its socket: 57 ms of 92): probe the nearest pair of a dive.
-            let (l1, l2) = self.dive();
-            self.shells_on = self.rotation_limited(l1, l2);
         }
         let (nodes1, nodes2) = (self.bvh1.nodes(), self.bvh2.nodes());
         let root = RelativeRss::new(&nodes1[0].rss, &nodes2[0].rss, &self.rot12, self.trans12);
@@ -808,6 +824,13 @@ impl<'a> StepSearch<'a> {
         }
         if let (Some(_), Some((l1, l2)), false) = (&self.shells, self.best_pair, self.shells_on) {
             self.shells_on = self.rotation_limited(l1, l2);
+            if self.shells_on {
+                // The certificates may free the whole window that this pair limited: search
+                // again with them (once per query: they stay on), rather than take the short
+                // step and grow the window back over several iterations (a tapered shaft
+                // turning in its bore, whose first probe missed: 6 iterations, 6.4 ms).
+                return self.run(t, window, slack, None);
+            }
         }
         // Both the traversal's step and the hulls' are safe for every pair: the longer is.
         let dt = self
