@@ -4,14 +4,12 @@
 //! 180-degree screw, UV spheres meeting pole to pole; and two found since: a tapered shaft
 //! turning in its bore, a threaded bolt screwed in its nut. Usage: `profile_pathological
 //! [name]`.
-#[path = "../benches/common/mod.rs"]
-mod common;
-
 use std::time::Instant;
+use tocsin::mesh::revolved;
 use tocsin::{mesh, time_of_contact, ContactOptions, Mat3, Motion, Pose, TriMesh, Vec3};
 
 fn tube(r: f64, length: f64, n_around: usize, n_along: usize) -> Option<TriMesh> {
-    common::revolved(|_, _| r, length, n_around, n_along)
+    revolved(|_, _| r, length, n_around, n_along).ok()
 }
 
 fn rot(axis: Vec3, deg: f64) -> Pose {
@@ -67,9 +65,9 @@ fn main() {
         // A shaft tapering from radius 1 to 0.5 over its length 2, in a bore of the same taper
         // 0.004 wider, turning half a turn.
         let taper = |c: f64| move |_: f64, z: f64| 0.75 + c - 0.25 * z;
-        if let (Some(shaft), Some(bore)) = (
-            common::revolved(taper(0.0), 2.0, 256, 8),
-            common::revolved(taper(0.004), 2.0, 256, 8),
+        if let (Ok(shaft), Ok(bore)) = (
+            revolved(taper(0.0), 2.0, 256, 8),
+            revolved(taper(0.004), 2.0, 256, 8),
         ) {
             if let Ok(mo) = Motion::screw(Pose::IDENTITY, rot(Vec3::Z, 180.0)) {
                 run("taper", &shaft, &mo, &bore, &still);
@@ -83,9 +81,9 @@ fn main() {
         let thread = move |c: f64| {
             move |a: f64, z: f64| 1.0 + c + 0.1 * (std::f64::consts::TAU * z / pitch - a).sin()
         };
-        if let (Some(bolt), Some(nut)) = (
-            common::revolved(thread(0.0), 3.0, 256, 192),
-            common::revolved(thread(0.01), 1.0, 256, 64),
+        if let (Ok(bolt), Ok(nut)) = (
+            revolved(thread(0.0), 3.0, 256, 192),
+            revolved(thread(0.01), 1.0, 256, 64),
         ) {
             let end = Pose {
                 translation: Vec3::new(0.0, 0.0, pitch / 2.0),

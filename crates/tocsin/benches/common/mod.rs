@@ -1,5 +1,5 @@
-//! Helpers shared by the bench programs (and, through `#[path]`, by the profiling examples and
-//! `tests/contact_time.rs`). Each program uses part of them.
+//! Helpers shared by the bench programs (and, through `#[path]`, by
+//! `examples/profile_contact_set.rs`). Each program uses part of them.
 
 #![allow(dead_code)]
 
@@ -105,36 +105,4 @@ pub fn contact_queries(m: &TriMesh, kind: usize, n_through: usize, n_near: usize
         out.extend(mo);
     }
     out
-}
-
-/// A surface of revolution about the z axis, open at its ends, centred on the origin:
-/// `n_around` columns by `n_along` rows of quads, each split in two, its radius at angle `a`
-/// and height `z` given by `radius(a, z)` (a tube where it is constant, a taper where it
-/// follows `z`, a helical thread where it depends on `z - pitch a / 2 pi`). `None` where the
-/// mesh is refused (a radius that is not finite).
-pub fn revolved(
-    radius: impl Fn(f64, f64) -> f64,
-    length: f64,
-    n_around: usize,
-    n_along: usize,
-) -> Option<TriMesh> {
-    let mut v = Vec::new();
-    for i in 0..=n_along {
-        let h = -length / 2.0 + length * i as f64 / n_along as f64;
-        for j in 0..n_around {
-            let a = std::f64::consts::TAU * j as f64 / n_around as f64;
-            let r = radius(a, h);
-            v.push(Vec3::new(r * a.cos(), r * a.sin(), h));
-        }
-    }
-    let mut f = Vec::new();
-    let n = n_around as u32;
-    for i in 0..n_along as u32 {
-        for j in 0..n {
-            let (p, q) = (i * n + j, i * n + (j + 1) % n);
-            f.push([p, q, q + n]);
-            f.push([p, q + n, p + n]);
-        }
-    }
-    TriMesh::new(v, f).ok()
 }

@@ -41,6 +41,33 @@ fn grid_triangles(n_u: usize, n_v: usize, wrap_v: bool) -> Vec<[u32; 3]> {
     t
 }
 
+/// A surface of revolution about the z axis, open at its ends and centred on the origin:
+/// `n_around` columns by `n_along` rows of quads, each split in two (`2 n_around n_along`
+/// triangles), its radius at angle `a` (radians from +x towards +y) and height `z` given by
+/// `radius(a, z)`, for `z` from `-length / 2` to `length / 2`. A tube where the radius is
+/// constant, a taper where it follows `z`, a helical thread where it depends on `z - pitch a /
+/// 2 pi`: the bodies turning or screwing in close fits of the continuous-collision benchmarks.
+/// `n_around` is raised to at least 3 and `n_along` to at least 1.
+pub fn revolved(
+    radius: impl Fn(f64, f64) -> f64,
+    length: f64,
+    n_around: usize,
+    n_along: usize,
+) -> Result<TriMesh, MeshError> {
+    let (n_around, n_along) = (n_around.max(3), n_along.max(1));
+    check_size(n_around, n_along + 1)?;
+    let mut vertices = Vec::with_capacity(n_around * (n_along + 1));
+    for i in 0..n_around {
+        let a = TAU * i as f64 / n_around as f64;
+        for j in 0..=n_along {
+            let z = length * (j as f64 / n_along as f64 - 0.5);
+            let r = radius(a, z);
+            vertices.push(Vec3::new(r * a.cos(), r * a.sin(), z));
+        }
+    }
+    build(vertices, grid_triangles(n_around, n_along + 1, false))
+}
+
 /// A (2,3) torus-knot tube: `n_u` segments along the knot, `n_v` around the tube
 /// (`2 n_u n_v` triangles). Knot radius about 3, tube radius 0.4, centred at the origin.
 /// `n_u` and `n_v` are raised to at least 3.

@@ -10,7 +10,7 @@ mod collada;
 mod generate;
 mod load;
 
-pub use generate::{box_mesh, capsule, cylinder, plate, sphere, torus_knot};
+pub use generate::{box_mesh, capsule, cylinder, plate, revolved, sphere, torus_knot};
 
 use crate::bvh::Bvh;
 use crate::error::MeshError;

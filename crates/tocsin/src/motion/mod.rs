@@ -69,6 +69,9 @@ pub struct FixedAxis {
     pub world_dir: Vec3,
     /// Speed along the axis (model units per unit of `t`, signed along `world_dir`).
     pub along: f64,
+    /// Angular speed about `world_dir` (radians per unit of `t`, positive): with `along`, the
+    /// helix the body's points follow advances `along / angular_speed` per radian.
+    pub angular_speed: f64,
 }
 
 /// Which interpolation a [`Motion`] follows.
@@ -320,6 +323,7 @@ impl Motion {
             world_point: self.axis_start,
             world_dir: dir,
             along,
+            angular_speed: theta,
         })
     }
 

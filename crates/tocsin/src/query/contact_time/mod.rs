@@ -48,7 +48,9 @@
 //! knot34k medians 251-353 -> 257-285 us in one run and 274-305 in another.
 
 pub(crate) mod cast;
+mod helix;
 pub(crate) mod probe;
+mod quotient;
 mod shells;
 mod traverse;
 

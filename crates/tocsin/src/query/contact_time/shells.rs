@@ -30,10 +30,13 @@
 //! turning triangle's circumcentre, which passes through the centre of any sphere through its
 //! corners (so a ball's triangles are measured from the ball's centre).
 
+use super::helix::{Direction, Helix, Ranges};
+use super::quotient::Quotient;
 use crate::bvh::{Bvh, Rss};
 use crate::math::{Pose, Vec3};
 use crate::motion::{FixedAxis, Motion};
 use crate::query::distance::distance_triangle_triangle;
+use crate::TriMesh;
 
 /// The certificate's data for one query, when one body turns about a fixed axis and the other
 /// is still.
@@ -53,6 +56,15 @@ pub(crate) struct AxisShells {
     /// the exact range of `h` over its triangles (each triangle's own tangent form), computed
     /// on first use; `None` where the normal has no meridian part.
     meridians: std::cell::RefCell<std::collections::HashMap<u32, Option<(Meridian, Range)>>>,
+    /// Where the turning body slides along the axis as it turns, the helical certificate
+    /// ([`Helix`]), and a turning node's direction and exact ranges for it, computed on first
+    /// use.
+    helix: Option<Helix>,
+    helices: std::cell::RefCell<std::collections::HashMap<u32, Option<(Direction, Ranges)>>>,
+    /// The triangles that the screw's invariants settle for the whole query ([`Quotient`]),
+    /// worked out on first use once allowed ([`Self::allow_quotient`]).
+    quotient: std::cell::OnceCell<Quotient>,
+    quotient_allowed: std::cell::Cell<bool>,
     /// The smallest distance from the axis line over a still node's triangles, exact,
     /// computed on first use with its subtree's (the still body and the line do not move: the
     /// axis slides along itself).
@@ -65,14 +77,15 @@ pub(crate) struct AxisShells {
 }
 
 /// Ranges of a volume's distances from a line and along it, or from a point.
-#[derive(Clone, Copy)]
-struct Range {
-    lo: f64,
-    hi: f64,
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Range {
+    pub(super) lo: f64,
+    pub(super) hi: f64,
 }
 
 impl Range {
-    fn gap(self, other: Range) -> f64 {
+    /// How far apart the two ranges are (0 where they overlap).
+    pub(super) fn gap(self, other: Range) -> f64 {
         (other.lo - self.hi).max(self.lo - other.hi).max(0.0)
     }
 }
@@ -291,6 +304,10 @@ impl AxisShells {
             lambda: (root.center - axis.body_point).dot(axis.body_dir),
             corners: Default::default(),
             meridians: Default::default(),
+            helix: Helix::new(&axis, turning.start(), still.start()),
+            helices: Default::default(),
+            quotient: Default::default(),
+            quotient_allowed: Default::default(),
             across: (plane_across(axis.body_dir), plane_across(axis.world_dir)),
             still_rho: Default::default(),
         })
@@ -364,6 +381,29 @@ impl AxisShells {
             (n, range)
         });
         self.meridians.borrow_mut().insert(index, r);
+        r
+    }
+
+    /// The helical direction and ranges of the turning mesh's node `index`
+    /// ([`Self::helices`]), whose triangles are `triangles` (body frame).
+    fn turning_helix(
+        &self,
+        helix: &Helix,
+        index: u32,
+        triangles: &[[Vec3; 3]],
+    ) -> Option<(Direction, Ranges)> {
+        if let Some(r) = self.helices.borrow().get(&index) {
+            return *r;
+        }
+        let world = || {
+            triangles
+                .iter()
+                .map(|t| t.map(|p| helix.start().transform_point(p)))
+        };
+        let r = helix
+            .mean_direction(world())
+            .and_then(|n| Some((n, helix.triangles(world(), n)?)));
+        self.helices.borrow_mut().insert(index, r);
         r
     }
 
@@ -457,6 +497,16 @@ impl AxisShells {
                 return lb;
             }
         }
+        // The helical ranges of the turning node, exact over its triangles, where it slides.
+        if let Some(helix) = &self.helix {
+            let th = self.turning_helix(helix, index, triangles);
+            if let Some((n, ranges)) = th {
+                lb = lb.max(helix.against_volume(Some(ranges), still, n));
+                if lb > need {
+                    return lb;
+                }
+            }
+        }
         // Not enough: the still side's exact smallest distance from the line (a volume over a
         // bore's faces reaches inside them by its chord's sagitta), worked out once per node,
         // unless a corner of the node's first triangle, whose distance from the line is at
@@ -473,6 +523,55 @@ impl AxisShells {
         lb.max(bound(
             rho_s.lo.max(self.still_rho_lo(still_bvh, still_index)),
         ))
+    }
+
+    /// Whether a pair the certificates did not separate should split its turning node first
+    /// (the still one otherwise, whose ranges loosen with its size): where the turning body
+    /// slides along the axis and this node, `index` with triangles `triangles`, has no helical
+    /// ranges (its faces spread over both flanks of a thread, or over half a pitch), no still
+    /// node however small is certified against it.
+    pub(crate) fn split_turning(&self, index: u32, triangles: &[[Vec3; 3]], still: &Rss) -> bool {
+        let Some(helix) = &self.helix else {
+            return false;
+        };
+        let Some((n, turning)) = self.turning_helix(helix, index, triangles) else {
+            return true;
+        };
+        match helix.still_volume(still, n) {
+            Some(s) => turning.width() > s.width(),
+            None => false,
+        }
+    }
+
+    /// Allows the whole-query certificate ([`Quotient`]): its cost (a hierarchy over every
+    /// triangle's image) is paid only where the bodies start in a close fit.
+    pub(crate) fn allow_quotient(&self) {
+        self.quotient_allowed.set(true);
+    }
+
+    /// Whether no triangle of mesh 1's leaf run `range1` and none of mesh 2's `range2` can ever
+    /// come within `delta` of each other under the screw ([`Quotient::resolved`]); `false`
+    /// where the certificate does not apply.
+    pub(crate) fn resolved(
+        &self,
+        (mesh1, range1): (&TriMesh, std::ops::Range<usize>),
+        (mesh2, range2): (&TriMesh, std::ops::Range<usize>),
+        delta: f64,
+    ) -> bool {
+        let Some(helix) = &self.helix else {
+            return false;
+        };
+        if !self.quotient_allowed.get() {
+            return false;
+        }
+        let (turning, still) = if self.turning_is_1 {
+            ((mesh1, range1), (mesh2, range2))
+        } else {
+            ((mesh2, range2), (mesh1, range1))
+        };
+        self.quotient
+            .get_or_init(|| Quotient::build(helix, turning.0, still.0, delta))
+            .resolved(turning.1, still.1)
     }
 
     /// Whether mesh 1 is the turning body.
@@ -572,6 +671,9 @@ impl AxisShells {
                 lb = lb.max(n.gap(rt, rs, slide));
             }
         }
+        if let (true, Some(helix)) = (lb <= need, &self.helix) {
+            lb = lb.max(helix.volumes(turning, still));
+        }
         lb
     }
 
@@ -653,13 +755,20 @@ impl AxisShells {
         }
         // The meridian projection across the turning triangle's plane ([`Meridian`]).
         let centroid = (turning[0] + turning[1] + turning[2]) / 3.0;
-        match Meridian::of_normal(n, centroid, ax.body_point, ax.body_dir) {
+        let lb = match Meridian::of_normal(n, centroid, ax.body_point, ax.body_dir) {
             Some(m) => {
                 let rt = m.triangle_range(turning, ax.body_point, ax.body_dir);
                 let rs = m.triangle_range(&still, axis_point, ax.world_dir);
                 lb.max(m.gap(rt, rs, slide))
             }
             None => lb,
+        };
+        match (&self.helix, lb > need) {
+            (Some(helix), false) => {
+                let body_still = if self.turning_is_1 { t2 } else { t1 };
+                lb.max(helix.triangle_pair(turning, body_still, need))
+            }
+            _ => lb,
         }
     }
 }

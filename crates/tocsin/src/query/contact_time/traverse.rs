@@ -84,6 +84,8 @@ pub(crate) enum StepOutcome {
 }
 
 pub(crate) struct StepSearch<'a> {
+    mesh1: &'a TriMesh,
+    mesh2: &'a TriMesh,
     bvh1: &'a Bvh,
     bvh2: &'a Bvh,
     motion1: Path<'a>,
@@ -325,6 +327,8 @@ impl<'a> StepSearch<'a> {
             Some(_) => Hulls::Off,
         };
         Self {
+            mesh1,
+            mesh2,
             bvh1: mesh1.bvh(),
             bvh2: mesh2.bvh(),
             motion1,
@@ -457,6 +461,10 @@ impl<'a> StepSearch<'a> {
             // Only where the pair would be visited: the certificate is then worth its cost.
             Some(shells) if self.shells_on && step * (1.0 + self.slack) < self.best => {
                 let (t, h) = (self.t, self.window);
+                let ranges = ((self.mesh1, a.leaf_range()), (self.mesh2, b.leaf_range()));
+                if shells.resolved(ranges.0, ranges.1, self.delta) {
+                    return f64::INFINITY;
+                }
                 let mut lb = shells.lower_bound(&a.rss, &b.rss, (t, h), self.delta);
                 if lb <= self.delta {
                     let (index, turning, still) = if shells.turning_is_1() {
@@ -734,6 +742,10 @@ impl<'a> StepSearch<'a> {
                 };
             }
         }
+        if let (Some(shells), true, true) = (&self.shells, self.shells_on, t == 0.0) {
+            // A close fit from the start: the whole-query certificate may pay.
+            shells.allow_quotient();
+        }
         let (nodes1, nodes2) = (self.bvh1.nodes(), self.bvh2.nodes());
         let root = RelativeRss::new(&nodes1[0].rss, &nodes2[0].rss, &self.rot12, self.trans12);
         self.stack.clear();
@@ -785,7 +797,15 @@ impl<'a> StepSearch<'a> {
             // With the rotation certificates, the still side is split first: the turning
             // side's ranges are exact at every size, the still side's loosen with size.
             let split_first = match &self.shells {
-                Some(sh) if self.shells_on && !a.is_leaf() && !b.is_leaf() => !sh.turning_is_1(),
+                Some(sh) if self.shells_on && !a.is_leaf() && !b.is_leaf() => {
+                    let (index, node, bvh, other) = if sh.turning_is_1() {
+                        (n1, a, self.bvh1, b)
+                    } else {
+                        (n2, b, self.bvh2, a)
+                    };
+                    let tris = &bvh.leaf_triangles()[node.leaf_range()];
+                    sh.turning_is_1() == sh.split_turning(index, tris, &other.rss)
+                }
                 _ => !a.is_leaf() && (b.is_leaf() || a.rss.size() >= b.rss.size()),
             };
             let children = if split_first {
