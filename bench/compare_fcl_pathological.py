@@ -6,6 +6,10 @@ median over ordinary passes for scale.
   at 0.3% clearance;
 - shaft: a tube (4K) turning 180 degrees in a bore (4K) at 0.4% clearance; the same with 128
   sides (2K each), whose corners come within 1.65 tolerances of the bore's faces;
+- tapered shaft: a shaft tapering from radius 1 to 0.5 (4K) turning 180 degrees in a bore of
+  the same taper 0.004 wider (4K);
+- bolt: a bolt with a sinusoidal thread (pitch 0.5, depth 0.1; 98K) screwed 170 degrees along
+  its thread into a nut 0.01 wider (32K);
 - slivers: a knot of 30 x 600 rings (150:1 triangles) on the issue's interp pass;
 - far screw: knot34k on a half turn about an axis 52 units away, passing the other knot at
   about 1.5 R;
@@ -31,16 +35,25 @@ from compare_fcl_ccd import KINDS, fcl_call, make_motion, tf
 import fcl
 
 
-def tube(r, length, n_around=256, n_along=8):
+def revolved(radius, length, n_around=256, n_along=8):
+    """A surface of revolution about z (open ends), its radius `radius(angle, z)` (numpy)."""
     a = np.linspace(0, 2 * np.pi, n_around, endpoint=False)
     z = np.linspace(-length / 2, length / 2, n_along + 1)
-    v = np.array([[r * np.cos(t), r * np.sin(t), h] for h in z for t in a])
-    f = []
-    for i in range(n_along):
-        for j in range(n_around):
-            p, q = i * n_around + j, i * n_around + (j + 1) % n_around
-            f += [[p, q, q + n_around], [p, q + n_around, p + n_around]]
-    return tocsin.Mesh(v, np.array(f))
+    za, aa = np.meshgrid(z, a, indexing="ij")
+    r = np.broadcast_to(radius(aa, za), aa.shape)
+    v = np.stack([r * np.cos(aa), r * np.sin(aa), za], axis=-1).reshape(-1, 3)
+    i, j = np.meshgrid(np.arange(n_along), np.arange(n_around), indexing="ij")
+    p, q = i * n_around + j, i * n_around + (j + 1) % n_around
+    f = np.stack([np.stack([p, q, q + n_around], -1), np.stack([p, q + n_around, p + n_around], -1)], -2)
+    return tocsin.Mesh(v, f.reshape(-1, 3))
+
+
+def tube(r, length, n_around=256, n_along=8):
+    return revolved(lambda a, z: np.full_like(a, r), length, n_around, n_along)
+
+
+def thread(c, pitch=0.5, depth=0.1):
+    return lambda a, z: 1.0 + c + depth * np.sin(2 * np.pi * z / pitch - a)
 
 
 def turn(axis, degrees, t=(0, 0, 0)):
@@ -60,6 +73,27 @@ def cases():
         tube(1.004, 6.0, 128),
         "screw",
         [(np.eye(4), turn((0, 0, 1), 180))],
+        still,
+    )
+    # A shaft tapering from radius 1 to 0.5 over its length 2 in a bore of the same taper
+    # 0.004 wider, turning half a turn.
+    yield (
+        "tapered shaft in bore",
+        revolved(lambda a, z: 0.75 - 0.25 * z + 0 * a, 2.0),
+        revolved(lambda a, z: 0.754 - 0.25 * z + 0 * a, 2.0),
+        "screw",
+        [(np.eye(4), turn((0, 0, 1), 180))],
+        still,
+    )
+    # A bolt (sinusoidal thread: pitch 0.5, depth 0.1) screwed 170 degrees along its thread
+    # into a nut 0.01 wider (not 180: a half turn's sense, and so the thread's hand, would be
+    # rounding's choice).
+    yield (
+        "bolt screwed into nut",
+        revolved(thread(0.0), 3.0, 256, 192),
+        revolved(thread(0.01), 1.0, 256, 64),
+        "screw",
+        [(np.eye(4), turn((0, 0, 1), 170, (0, 0, 0.5 * 170 / 360)))],
         still,
     )
     slivers = tocsin.Mesh.torus_knot(30, 600)

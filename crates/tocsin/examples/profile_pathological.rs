@@ -76,7 +76,7 @@ fn main() {
     }
     if want("nut") {
         // A bolt with a sinusoidal thread (pitch 0.5, depth 0.1) in a nut 0.01 wider, screwed
-        // half a turn along its thread.
+        // 170 degrees along its thread (a half turn's sense would be rounding's choice).
         let pitch = 0.5;
         let thread = move |c: f64| {
             move |a: f64, z: f64| 1.0 + c + 0.1 * (std::f64::consts::TAU * z / pitch - a).sin()
@@ -86,8 +86,8 @@ fn main() {
             revolved(thread(0.01), 1.0, 256, 64),
         ) {
             let end = Pose {
-                translation: Vec3::new(0.0, 0.0, pitch / 2.0),
-                ..rot(Vec3::Z, 180.0)
+                translation: Vec3::new(0.0, 0.0, pitch * 170.0 / 360.0),
+                ..rot(Vec3::Z, 170.0)
             };
             if let Ok(mo) = Motion::screw(Pose::IDENTITY, end) {
                 run("nut", &bolt, &mo, &nut, &still);

@@ -38,13 +38,21 @@ pub(crate) struct Quotient {
 #[derive(Clone, Copy)]
 struct Image {
     corners: [[f64; 2]; 3],
+    /// The corners' mean.
+    centre: [f64; 2],
     margin: f64,
     leaf: u32,
 }
 
 impl Image {
-    fn centre(&self, axis: usize) -> f64 {
-        (self.corners[0][axis] + self.corners[1][axis] + self.corners[2][axis]) / 3.0
+    fn new(corners: [[f64; 2]; 3], margin: f64, leaf: u32) -> Self {
+        let mean = |k: usize| (corners[0][k] + corners[1][k] + corners[2][k]) / 3.0;
+        Self {
+            corners,
+            centre: [mean(0), mean(1)],
+            margin,
+            leaf,
+        }
     }
 }
 
@@ -67,26 +75,36 @@ struct Node {
 impl Node {
     /// The box over the images' corners (their principal direction from one pass of sums).
     fn over(images: &[Image]) -> Self {
-        let n = (3 * images.len()) as f64;
-        let (mut sx, mut sy, mut sxx, mut sxy, mut syy, mut margin) =
-            (0.0, 0.0, 0.0, 0.0, 0.0, 0.0f64);
-        let origin = images[0].corners[0];
-        for im in images {
-            margin = margin.max(im.margin);
-            for c in &im.corners {
-                let (x, y) = (c[0] - origin[0], c[1] - origin[1]);
-                sx += x;
-                sy += y;
-                sxx += x * x;
-                sxy += x * y;
-                syy += y * y;
-            }
+        // The principal direction of the corners of at most `SAMPLE` images spread over the
+        // run (the box is all the corners' whatever the direction; the direction only makes it
+        // thin): one pass less over a large node's images. Not of the centres: a few images
+        // stacked on each other have nearly one centre, and no direction.
+        const SAMPLE: usize = 256;
+        let stride = images.len().div_ceil(SAMPLE);
+        let origin = images[0].centre;
+        let (mut sx, mut sy, mut sxx, mut sxy, mut syy, mut n) = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
+        for c in images
+            .iter()
+            .step_by(stride)
+            .flat_map(|im| im.corners.iter())
+        {
+            let (x, y) = (c[0] - origin[0], c[1] - origin[1]);
+            sx += x;
+            sy += y;
+            sxx += x * x;
+            sxy += x * y;
+            syy += y * y;
+            n += 1.0;
         }
         let (mx, my) = (sx / n, sy / n);
         let (cxx, cxy, cyy) = (sxx / n - mx * mx, sxy / n - mx * my, syy / n - my * my);
         let angle = 0.5 * (2.0 * cxy).atan2(cxx - cyy);
         let (e, f) = ([angle.cos(), angle.sin()], [-angle.sin(), angle.cos()]);
         let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+        let mut margin = 0.0f64;
+        for im in images {
+            margin = margin.max(im.margin);
+        }
         for c in images.iter().flat_map(|im| im.corners.iter()) {
             let (dx, dy) = (c[0] - origin[0], c[1] - origin[1]);
             let (p, q) = (dx * e[0] + dy * e[1], dx * f[0] + dy * f[1]);
@@ -165,7 +183,7 @@ impl Tree {
         } else {
             [-node.axis[1], node.axis[0]]
         };
-        let key = |im: &Image| im.centre(0) * d[0] + im.centre(1) * d[1];
+        let key = |im: &Image| im.centre[0] * d[0] + im.centre[1] * d[1];
         let images = &mut self.images[first..first + count];
         let mid = count / 2;
         images.select_nth_unstable_by(mid, |a, b| key(a).total_cmp(&key(b)));
@@ -235,13 +253,7 @@ impl Quotient {
         let images_t: Vec<Image> = all_t
             .iter()
             .enumerate()
-            .filter_map(|(i, im)| {
-                im.map(|(corners, margin)| Image {
-                    corners,
-                    margin,
-                    leaf: i as u32,
-                })
-            })
+            .filter_map(|(i, im)| im.map(|(corners, margin)| Image::new(corners, margin, i as u32)))
             .collect();
         // The still images are repeated on every branch of the phase (whole periods up or
         // down) that comes within the tolerance and the margins of a turning image: on any
@@ -267,11 +279,7 @@ impl Quotient {
             let Some((corners, margin)) = *im else {
                 continue;
             };
-            let image = Image {
-                corners,
-                margin,
-                leaf: j as u32,
-            };
+            let image = Image::new(corners, margin, j as u32);
             let (lo, hi) = span(&image);
             let first = ((t_lo - delta - hi) / period).ceil();
             let last = ((t_hi + delta - lo) / period).floor();
@@ -283,8 +291,10 @@ impl Quotient {
             }
             let mut m = first;
             while m <= last {
+                let shift = m * period;
                 images_s.push(Image {
-                    corners: corners.map(|c| [c[0], c[1] + m * period]),
+                    corners: corners.map(|c| [c[0], c[1] + shift]),
+                    centre: [image.centre[0], image.centre[1] + shift],
                     ..image
                 });
                 m += 1.0;
