@@ -33,7 +33,7 @@
 //! largest `|b|` and `|k_c - a|` (convex functions); over a volume they are its centre's value
 //! plus or minus its extent along the form.
 
-use super::shells::Range;
+use super::shells::{mean_direction, Range};
 use crate::bvh::Rss;
 use crate::math::{Pose, Vec3};
 use crate::motion::FixedAxis;
@@ -206,10 +206,7 @@ impl Helix {
     pub(crate) fn triangle(&self, tri: &[Vec3; 3], n: Direction) -> Option<Ranges> {
         let l = self.local((tri[0] + tri[1] + tri[2]) / 3.0)?;
         let (mut a_lo, mut eps, mut b_max, mut dev) = (f64::INFINITY, 0.0f64, 0.0f64, 0.0f64);
-        let mut lin = Range {
-            lo: f64::INFINITY,
-            hi: f64::NEG_INFINITY,
-        };
+        let mut lin = Range::EMPTY;
         let mut zeta = lin;
         for &x in tri {
             let rel = x - self.point;
@@ -222,14 +219,8 @@ impl Helix {
             dev = dev.max((l.k_c - a).abs());
             let zl = z - self.k * (l.phi_u + b / l.k_c);
             let hl = n.rho * a + n.eta * self.s * zl;
-            zeta = Range {
-                lo: zeta.lo.min(zl),
-                hi: zeta.hi.max(zl),
-            };
-            lin = Range {
-                lo: lin.lo.min(hl),
-                hi: lin.hi.max(hl),
-            };
+            zeta = zeta.with(zl);
+            lin = lin.with(hl);
         }
         self.finish(n, (lin, zeta), (a_lo, eps), (b_max, dev, l.k_c))
     }
@@ -403,25 +394,12 @@ impl Helix {
         &self,
         tris: impl Iterator<Item = [Vec3; 3]>,
     ) -> Option<Direction> {
-        let (mut sum_rho, mut sum_eta, mut count) = (0.0, 0.0, 0.0);
-        for tri in tris {
+        let dirs = tris.map(|tri| {
             let nrm = (tri[1] - tri[0]).cross(tri[2] - tri[0]).normalize_or_zero();
-            if let Some(d) = self.direction(nrm, (tri[0] + tri[1] + tri[2]) / 3.0) {
-                let sign = if count == 0.0 || d.rho * sum_rho + d.eta * sum_eta >= 0.0 {
-                    1.0
-                } else {
-                    -1.0
-                };
-                sum_rho += sign * d.rho;
-                sum_eta += sign * d.eta;
-            }
-            count += 1.0;
-        }
-        let len = f64::hypot(sum_rho, sum_eta);
-        (len > 0.5 * count).then(|| Direction {
-            rho: sum_rho / len,
-            eta: sum_eta / len,
-        })
+            let d = self.direction(nrm, (tri[0] + tri[1] + tri[2]) / 3.0)?;
+            Some([d.rho, d.eta])
+        });
+        mean_direction(dirs).map(|[rho, eta]| Direction { rho, eta })
     }
 
     /// The turning volume `a` (its body frame) against the still volume `b` (its body frame).
@@ -515,6 +493,7 @@ mod tests {
     use super::*;
     use crate::motion::sampling::{rss_point, unit};
     use crate::motion::Motion;
+    use crate::query::contact_time::test_support::{assert_below_sampled, point_on};
     use crate::query::distance::distance_triangle_triangle;
     use rand::{Rng, SeedableRng};
     use rand_chacha::ChaCha8Rng;
@@ -572,13 +551,7 @@ mod tests {
             };
             let shift = image[0][1] / h.s - continued(tri[0]).1;
             for _ in 0..100 {
-                let (a, b): (f64, f64) = (rng.random(), rng.random());
-                let (a, b) = if a + b > 1.0 {
-                    (1.0 - a, 1.0 - b)
-                } else {
-                    (a, b)
-                };
-                let x = tri[0] + (tri[1] - tri[0]) * a + (tri[2] - tri[0]) * b;
+                let x = point_on(&mut rng, &tri);
                 let (rho, zeta) = continued(x);
                 let p = Vec3::new(rho, h.s * (zeta + shift), 0.0);
                 let d = distance_triangle_triangle(&flat, &[p, p, p]).distance;
@@ -628,13 +601,7 @@ mod tests {
             if let Some(r) = h.triangle(&tri, n) {
                 ranged += 1;
                 for _ in 0..100 {
-                    let (a, b): (f64, f64) = (rng.random(), rng.random());
-                    let (a, b) = if a + b > 1.0 {
-                        (1.0 - a, 1.0 - b)
-                    } else {
-                        (a, b)
-                    };
-                    check(r, tri[0] + (tri[1] - tri[0]) * a + (tri[2] - tri[0]) * b);
+                    check(r, point_on(&mut rng, &tri));
                 }
             }
             let e0 = unit(&mut rng);
@@ -671,15 +638,8 @@ mod tests {
             let t2 = w2.map(|p| still.inverse().transform_point(p));
             let lb = h.triangle_pair(&t1, &t2, f64::INFINITY);
             positive += usize::from(lb > 0.0);
-            for k in 0..=256 {
-                let pose = motion.pose_at(f64::from(k) / 256.0);
-                let moved = t1.map(|p| pose.transform_point(p));
-                let d = distance_triangle_triangle(&moved, &w2).distance;
-                assert!(
-                    lb <= d * (1.0 + 1e-9) + 1e-12,
-                    "case {case}: bound {lb} above {d}"
-                );
-            }
+            let label = format!("case {case}");
+            assert_below_sampled(lb, &motion, (&t1, &w2), 256, &label);
         }
         assert!(positive > 20, "{positive} pairs bounded above 0");
     }
@@ -723,12 +683,8 @@ mod tests {
             let t2 = face(0.01, k2, z + rng.random_range(-0.03..0.03), case % 3 == 0);
             let lb = helix.triangle_pair(&t1, &t2, f64::INFINITY);
             assert!(lb >= 0.0048, "case {case}: bound {lb}");
-            for k in 0..=64 {
-                let pose = motion.pose_at(f64::from(k) / 64.0);
-                let moved = t1.map(|p| pose.transform_point(p));
-                let d = distance_triangle_triangle(&moved, &t2).distance;
-                assert!(lb <= d * (1.0 + 1e-12), "case {case}: bound {lb} above {d}");
-            }
+            let label = format!("case {case}");
+            assert_below_sampled(lb, &motion, (&t1, &t2), 64, &label);
         }
     }
 }

@@ -52,6 +52,8 @@ mod helix;
 pub(crate) mod probe;
 mod quotient;
 mod shells;
+#[cfg(test)]
+mod test_support;
 mod traverse;
 
 use crate::error::{ContactError, OptionsError};

@@ -84,6 +84,20 @@ pub(super) struct Range {
 }
 
 impl Range {
+    /// The empty range, which [`Self::with`] grows.
+    pub(super) const EMPTY: Range = Range {
+        lo: f64::INFINITY,
+        hi: f64::NEG_INFINITY,
+    };
+
+    /// The smallest range holding this one and `v`.
+    pub(super) fn with(self, v: f64) -> Range {
+        Range {
+            lo: self.lo.min(v),
+            hi: self.hi.max(v),
+        }
+    }
+
     /// How far apart the two ranges are (0 where they overlap).
     pub(super) fn gap(self, other: Range) -> f64 {
         (other.lo - self.hi).max(self.lo - other.hi).max(0.0)
@@ -96,6 +110,22 @@ fn extent(e0: Vec3, e1: Vec3, l0: f64, l1: f64, r: f64, v: Vec3) -> f64 {
     l0 * e0.dot(v).abs() + l1 * e1.dot(v).abs() + r
 }
 
+/// The point `x`'s axial coordinate along the line through `p` with unit direction `d`, its
+/// distance `k` from the line and the radial unit towards it (any unit across the line where
+/// `x` is on it).
+fn radial_frame(x: Vec3, p: Vec3, d: Vec3) -> (f64, f64, Vec3) {
+    let rel = x - p;
+    let z = rel.dot(d);
+    let radial = rel - d * z;
+    let k = radial.length();
+    let u = if k > 0.0 {
+        radial / k
+    } else {
+        any_orthogonal(d)
+    };
+    (z, k, u)
+}
+
 /// A unit vector orthogonal to the unit `d`.
 fn any_orthogonal(d: Vec3) -> Vec3 {
     let helper = if d.x.abs() < 0.9 { Vec3::X } else { Vec3::Y };
@@ -106,15 +136,7 @@ fn any_orthogonal(d: Vec3) -> Vec3 {
 /// line through `p` with unit direction `d` in that frame: its range of distances from the
 /// line and of axial coordinates `(x - p) . d`.
 fn cylinder(c: Vec3, e0: Vec3, e1: Vec3, l: [f64; 2], r: f64, p: Vec3, d: Vec3) -> (Range, Range) {
-    let rel = c - p;
-    let z = rel.dot(d);
-    let radial = rel - d * z;
-    let k = radial.length();
-    let u = if k > 0.0 {
-        radial / k
-    } else {
-        any_orthogonal(d)
-    };
+    let (z, k, u) = radial_frame(c, p, d);
     let across = d.cross(u);
     let (eu, et, ez) = (
         extent(e0, e1, l[0], l[1], r, u),
@@ -185,15 +207,7 @@ impl Meridian {
         p: Vec3,
         d: Vec3,
     ) -> Range {
-        let rel = c - p;
-        let z = rel.dot(d);
-        let radial = rel - d * z;
-        let k = radial.length();
-        let u = if k > 0.0 {
-            radial / k
-        } else {
-            any_orthogonal(d)
-        };
+        let (z, k, u) = radial_frame(c, p, d);
         let w = u * self.rho + d * self.z;
         let (centre, ext) = (k * self.rho + z * self.z, extent(e0, e1, l[0], l[1], r, w));
         let (eu, et) = (
@@ -216,18 +230,8 @@ impl Meridian {
     /// at least its tangent-plane form `n.rho u . x + n.z z` (linear, its smallest at a
     /// corner), `u` the radial unit at the centroid; where `n.rho < 0`, the reverse.
     fn triangle_range(self, tri: &[Vec3; 3], p: Vec3, d: Vec3) -> Range {
-        let centroid = (tri[0] + tri[1] + tri[2]) / 3.0 - p;
-        let radial = centroid - d * centroid.dot(d);
-        let k = radial.length();
-        let u = if k > 0.0 {
-            radial / k
-        } else {
-            any_orthogonal(d)
-        };
-        let mut exact = Range {
-            lo: f64::INFINITY,
-            hi: f64::NEG_INFINITY,
-        };
+        let (_, _, u) = radial_frame((tri[0] + tri[1] + tri[2]) / 3.0, p, d);
+        let mut exact = Range::EMPTY;
         let mut tangent = exact;
         for &v in tri {
             let rel = v - p;
@@ -235,14 +239,8 @@ impl Meridian {
             let perp = rel - d * z;
             let h = self.rho * perp.length() + self.z * z;
             let lin = self.rho * perp.dot(u) + self.z * z;
-            exact = Range {
-                lo: exact.lo.min(h),
-                hi: exact.hi.max(h),
-            };
-            tangent = Range {
-                lo: tangent.lo.min(lin),
-                hi: tangent.hi.max(lin),
-            };
+            exact = exact.with(h);
+            tangent = tangent.with(lin);
         }
         if self.rho >= 0.0 {
             Range {
@@ -266,6 +264,26 @@ impl Meridian {
             hi: still.hi + widen,
         })
     }
+}
+
+/// The mean of unit directions in a plane (`None` for a set without one), each turned to
+/// agree with the first (a soup's orientation being arbitrary), normalised; `None` where they
+/// disagree (the mean under half as long as their count, those without a direction counted).
+pub(super) fn mean_direction(dirs: impl Iterator<Item = Option<[f64; 2]>>) -> Option<[f64; 2]> {
+    let (mut sum, mut count) = ([0.0f64; 2], 0.0);
+    for d in dirs {
+        if let Some(d) = d {
+            let sign = if count == 0.0 || d[0] * sum[0] + d[1] * sum[1] >= 0.0 {
+                1.0
+            } else {
+                -1.0
+            };
+            sum = [sum[0] + sign * d[0], sum[1] + sign * d[1]];
+        }
+        count += 1.0;
+    }
+    let len = sum[0].hypot(sum[1]);
+    (len > 0.5 * count).then(|| [sum[0] / len, sum[1] / len])
 }
 
 /// The volume's range of distances from the point `o` (all in one frame).
@@ -364,29 +382,10 @@ impl AxisShells {
             self.meridians.borrow_mut().insert(index, None);
             return None;
         }
-        let (mut sum_rho, mut sum_z, mut count) = (0.0, 0.0, 0.0);
-        for tri in triangles {
-            if let Some(m) = direction(tri) {
-                let sign = if count == 0.0 || m.rho * sum_rho + m.z * sum_z >= 0.0 {
-                    1.0
-                } else {
-                    -1.0
-                };
-                sum_rho += sign * m.rho;
-                sum_z += sign * m.z;
-            }
-            count += 1.0;
-        }
-        let len = f64::hypot(sum_rho, sum_z);
-        let r = (len > 0.5 * count).then(|| {
-            let n = Meridian {
-                rho: sum_rho / len,
-                z: sum_z / len,
-            };
-            let mut range = Range {
-                lo: f64::INFINITY,
-                hi: f64::NEG_INFINITY,
-            };
+        let mean = mean_direction(triangles.iter().map(|t| direction(t).map(|m| [m.rho, m.z])));
+        let r = mean.map(|[rho, z]| {
+            let n = Meridian { rho, z };
+            let mut range = Range::EMPTY;
             for tri in triangles {
                 let r = n.triangle_range(tri, ax.body_point, ax.body_dir);
                 range = Range {
@@ -520,15 +519,7 @@ impl AxisShells {
         // distances from the line, which settle a straight shaft without the pass over the
         // node's triangles.
         if let Some((n, range)) = self.turning_meridian(index, triangles) {
-            let rs = n.volume_range(
-                c,
-                (f0, f1),
-                still.half_lengths,
-                still.radius,
-                axis_point,
-                ax.world_dir,
-            );
-            lb = lb.max(n.gap(range, rs, slide));
+            lb = lb.max(self.meridian_gap(n, range, still, (t, h)));
             if lb > need {
                 return lb;
             }
@@ -558,6 +549,25 @@ impl AxisShells {
             Some(s) => turning.width() > s.width(),
             None => false,
         }
+    }
+
+    /// The gap in the meridian direction `n` between a turning set's range `turning` and the
+    /// still volume `still` (its body frame) over the window `[t, t + h]`.
+    fn meridian_gap(&self, n: Meridian, turning: Range, still: &Rss, (t, h): (f64, f64)) -> f64 {
+        let ax = &self.axis;
+        let axis_point = ax.world_point + ax.world_dir * (ax.along * t);
+        let rs = n.volume_range(
+            self.still.transform_point(still.center),
+            (
+                self.still.rotation * still.axes.x_axis,
+                self.still.rotation * still.axes.y_axis,
+            ),
+            still.half_lengths,
+            still.radius,
+            axis_point,
+            ax.world_dir,
+        );
+        n.gap(turning, rs, ax.along.abs() * h)
     }
 
     /// Allows the whole-query certificate ([`Quotient`]): its cost (a hierarchy over every
@@ -677,15 +687,7 @@ impl AxisShells {
                     ax.body_point,
                     ax.body_dir,
                 );
-                let rs = n.volume_range(
-                    c,
-                    (f0, f1),
-                    still.half_lengths,
-                    still.radius,
-                    axis_point,
-                    ax.world_dir,
-                );
-                lb = lb.max(n.gap(rt, rs, slide));
+                lb = lb.max(self.meridian_gap(n, rt, still, (t, h)));
             }
         }
         if let (true, Some(helix)) = (lb <= need, &self.helix) {
@@ -713,10 +715,7 @@ impl AxisShells {
         let axis_point = ax.world_point + ax.world_dir * (ax.along * t);
         // Axial coordinates and distances from the line, over the corners.
         let corners = |tri: &[Vec3; 3], p: Vec3, d: Vec3| {
-            let mut z = Range {
-                lo: f64::INFINITY,
-                hi: f64::NEG_INFINITY,
-            };
+            let mut z = Range::EMPTY;
             let mut rho_hi: f64 = 0.0;
             for &v in tri {
                 let rel = v - p;
@@ -856,6 +855,7 @@ fn circumcentre(t: &[Vec3; 3]) -> Option<Vec3> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::query::contact_time::test_support::assert_below_sampled;
     use rand::{Rng, SeedableRng};
     use rand_chacha::ChaCha8Rng;
 
@@ -867,40 +867,49 @@ mod tests {
     /// for these triangles fell below the axis (0), and the query took 6 s.
     #[test]
     fn long_triangles_of_a_shaft_in_a_bore_are_certified_by_their_radial_gap() {
+        let step = std::f64::consts::TAU / 128.0;
+        let gap = 1.004 * (step / 2.0).cos() - 1.0;
+        check_faces_of_revolution(128, (|_| 1.0, |_| 1.004), (-2.0, 1.5, 0.5, 0.75), gap);
+    }
+
+    /// Random face pairs of two surfaces of revolution about z with `n` columns, the turning
+    /// one's radius `radii.0(z)`, the still one's `radii.1(z)`, faces from heights in
+    /// `z.0..z.1` and `z.2` (turning) and `z.3` (still) long: the bound of each pair under a
+    /// half turn is at least `gap` and at most its distance at every sampled angle.
+    pub(super) fn check_faces_of_revolution(
+        n: u32,
+        radii: (impl Fn(f64) -> f64, impl Fn(f64) -> f64),
+        z: (f64, f64, f64, f64),
+        gap: f64,
+    ) {
         let mut rng = ChaCha8Rng::seed_from_u64(5);
         let turn = Pose::from_axis_angle(Vec3::Z, std::f64::consts::PI, Vec3::ZERO);
         let motion = Motion::screw(Pose::IDENTITY, turn).expect("screw");
         let still = Motion::stationary(Pose::IDENTITY);
         let root = *crate::mesh::box_mesh(Vec3::ONE).expect("box").bvh().root();
         let shells = AxisShells::new(&motion, &still, &root, &root).expect("a fixed axis");
-        let n = 128;
         let step = std::f64::consts::TAU / f64::from(n);
-        let face = |r: f64, k: u32, z0: f64, z1: f64, upper: bool| {
+        let face = |r: &dyn Fn(f64) -> f64, k: u32, z0: f64, z1: f64, upper: bool| {
             let (a0, a1) = (step * f64::from(k), step * f64::from(k + 1));
-            let p = |a: f64, z: f64| Vec3::new(r * a.cos(), r * a.sin(), z);
+            let p = |a: f64, z: f64| Vec3::new(r(z) * a.cos(), r(z) * a.sin(), z);
             if upper {
                 [p(a0, z0), p(a1, z1), p(a0, z1)]
             } else {
                 [p(a0, z0), p(a1, z0), p(a1, z1)]
             }
         };
-        let gap = 1.004 * (step / 2.0).cos() - 1.0;
         for case in 0..200 {
-            let z = rng.random_range(-2.0..1.5);
-            let t1 = face(1.0, rng.random_range(0..n), z, z + 0.5, case % 2 == 0);
-            let z = rng.random_range(-2.0..1.5);
-            let t2 = face(1.004, rng.random_range(0..n), z, z + 0.75, case % 3 == 0);
+            let h = rng.random_range(z.0..z.1);
+            let t1 = face(&radii.0, rng.random_range(0..n), h, h + z.2, case % 2 == 0);
+            let h = rng.random_range(z.0..z.1);
+            let t2 = face(&radii.1, rng.random_range(0..n), h, h + z.3, case % 3 == 0);
             let lb = shells.lower_bound_triangles(&t1, &t2, (0.0, 1.0), f64::INFINITY);
             assert!(
                 lb >= gap * (1.0 - 1e-9),
                 "case {case}: bound {lb} below the gap {gap}"
             );
-            for k in 0..=64 {
-                let pose = motion.pose_at(f64::from(k) / 64.0);
-                let moved = t1.map(|p| pose.transform_point(p));
-                let d = distance_triangle_triangle(&moved, &t2).distance;
-                assert!(lb <= d * (1.0 + 1e-12), "case {case}: bound {lb} above {d}");
-            }
+            let label = format!("case {case}");
+            assert_below_sampled(lb, &motion, (&t1, &t2), 64, &label);
         }
     }
 
@@ -967,6 +976,7 @@ mod tests {
 mod meridian_tests {
     use super::*;
     use crate::motion::sampling::{rss_point, unit};
+    use crate::query::contact_time::test_support::point_on;
     use rand::{Rng, SeedableRng};
     use rand_chacha::ChaCha8Rng;
 
@@ -996,13 +1006,7 @@ mod meridian_tests {
             let tri = [0; 3].map(|_| centre + unit(&mut rng) * size * rng.random::<f64>());
             let range = n.triangle_range(&tri, p, d);
             for _ in 0..200 {
-                let (a, b): (f64, f64) = (rng.random(), rng.random());
-                let (a, b) = if a + b > 1.0 {
-                    (1.0 - a, 1.0 - b)
-                } else {
-                    (a, b)
-                };
-                let x = tri[0] + (tri[1] - tri[0]) * a + (tri[2] - tri[0]) * b;
+                let x = point_on(&mut rng, &tri);
                 let v = h(n, x, p, d);
                 let slack = 1e-12 * (1.0 + v.abs());
                 assert!(
@@ -1038,43 +1042,17 @@ mod meridian_tests {
     /// query took 6.7 s.
     #[test]
     fn tapered_triangles_are_certified_by_their_meridian_gap() {
-        let mut rng = ChaCha8Rng::seed_from_u64(5);
-        let turn = Pose::from_axis_angle(Vec3::Z, std::f64::consts::PI, Vec3::ZERO);
-        let motion = Motion::screw(Pose::IDENTITY, turn).expect("screw");
-        let still = Motion::stationary(Pose::IDENTITY);
-        let root = *crate::mesh::box_mesh(Vec3::ONE).expect("box").bvh().root();
-        let shells = AxisShells::new(&motion, &still, &root, &root).expect("a fixed axis");
-        let n = 256;
-        let step = std::f64::consts::TAU / f64::from(n);
-        let face = |c: f64, k: u32, z0: f64, z1: f64, upper: bool| {
-            let (a0, a1) = (step * f64::from(k), step * f64::from(k + 1));
-            let p = |a: f64, z: f64| {
-                let r = 0.75 + c - 0.25 * z;
-                Vec3::new(r * a.cos(), r * a.sin(), z)
-            };
-            if upper {
-                [p(a0, z0), p(a1, z1), p(a0, z1)]
-            } else {
-                [p(a0, z0), p(a1, z0), p(a1, z1)]
-            }
-        };
+        let step = std::f64::consts::TAU / 256.0;
         // The faces' distance across the slope, less what the tangent form at a bore
         // triangle's centroid loses at its farthest corner (two thirds of a column round).
         let gap = 0.004 / 1.0625f64.sqrt() - 1.004 * (1.0 - (2.0 * step / 3.0).cos());
-        for case in 0..200 {
-            let z = rng.random_range(-1.0..0.75);
-            let t1 = face(0.0, rng.random_range(0..n), z, z + 0.25, case % 2 == 0);
-            let z = rng.random_range(-1.0..0.75);
-            let t2 = face(0.004, rng.random_range(0..n), z, z + 0.25, case % 3 == 0);
-            let lb = shells.lower_bound_triangles(&t1, &t2, (0.0, 1.0), f64::INFINITY);
-            assert!(lb >= gap, "case {case}: bound {lb} below the gap {gap}");
-            for k in 0..=64 {
-                let pose = motion.pose_at(f64::from(k) / 64.0);
-                let moved = t1.map(|p| pose.transform_point(p));
-                let d = distance_triangle_triangle(&moved, &t2).distance;
-                assert!(lb <= d * (1.0 + 1e-12), "case {case}: bound {lb} above {d}");
-            }
-        }
+        let taper = |c: f64| move |z: f64| 0.75 + c - 0.25 * z;
+        super::tests::check_faces_of_revolution(
+            256,
+            (taper(0.0), taper(0.004)),
+            (-1.0, 0.75, 0.25, 0.25),
+            gap,
+        );
     }
 
     /// Node pairs of two random soups, one turning (and sliding along the axis) past the
