@@ -1007,6 +1007,25 @@ fn turning_in_close_fits_against_sampling() {
         screw(0.5 * 170.0 / 360.0),
         nut(0.06),
     ));
+    // Threaded half a turn out of phase below z = -0.3: that part starts below the nut, out
+    // of its reach along the axis, and meets the nut's thread as the screw carries it up (a
+    // certificate that forgot the slide would settle it from where it starts).
+    let stepped = mesh::revolved(
+        |a: f64, z: f64| {
+            let phase = if z < -0.3 { std::f64::consts::PI } else { 0.0 };
+            1.0 + 0.05 * (std::f64::consts::TAU * z / 0.5 - a + phase).sin()
+        },
+        1.5,
+        32,
+        36,
+    )
+    .unwrap();
+    cases.push((
+        "bolt threaded out of phase below the nut, screwed up into it".into(),
+        stepped,
+        screw(0.5 * 170.0 / 360.0),
+        nut(0.06),
+    ));
     cases.push((
         "bolt screwed at twice the pitch".into(),
         bolt.clone(),
@@ -1026,8 +1045,8 @@ fn turning_in_close_fits_against_sampling() {
             &format!("{label}, swapped"),
         ) as usize;
     }
-    // The tight fits, the capped bore, the pushed taper and the bolts at twice the pitch or in
-    // the 0.003 nut collide; the clear ones (1.02 socket, 1.1 bore, the 128-sided bore, the
+    // The tight fits, the capped bore, the pushed taper and the bolts at twice the pitch, out
+    // of phase or in the 0.003 nut collide; the clear ones (1.02 socket, 1.1 bore, the 128-sided bore, the
     // 0.05 and 128-sided tapers, the bolts in the 0.06 nut) not.
     assert!(contacts >= 2 * (cases.len() - 7), "{contacts} contacts");
     // At the edge of the certificates: tolerances around the clear fits' closest approach.

@@ -51,6 +51,8 @@ pub(crate) struct Helix {
     k: f64,
     /// The phase's period, `2 pi |k|`.
     pitch: f64,
+    /// How far the turning body slides along `dir` over the whole motion (signed).
+    travel: f64,
     /// The phase's scale in the metric, valid for points at least `pitch` from the axis.
     s: f64,
     /// The turning body's pose at `t = 0`, and the still body's.
@@ -118,6 +120,13 @@ pub(crate) struct Corner {
     phi: f64,
 }
 
+impl Corner {
+    /// The axial coordinate (from the axis point, at `t = 0` for the turning body).
+    pub(crate) fn z(&self) -> f64 {
+        self.z
+    }
+}
+
 /// A set's linear frame about the radial unit at its centre `c` (relative to the axis point).
 struct Local {
     u: Vec3,
@@ -148,6 +157,7 @@ impl Helix {
             e2: dir.cross(e1),
             k,
             pitch: std::f64::consts::TAU * k.abs(),
+            travel: axis.along,
             s: (16.0f64 / 17.0).sqrt(),
             start,
             still,
@@ -162,6 +172,11 @@ impl Helix {
     /// The still body's pose.
     pub(crate) fn still_pose(&self) -> &Pose {
         &self.still
+    }
+
+    /// How far the turning body slides along the axis over the whole motion (signed).
+    pub(crate) fn travel(&self) -> f64 {
+        self.travel
     }
 
     /// The frame about the world point `c`; `None` on the axis.

@@ -19,6 +19,7 @@
 
 use super::helix::Corner;
 use super::helix::Helix;
+use super::shells::Range;
 use crate::math::{Pose, Vec3};
 use crate::query::distance::distance_triangle_triangle;
 use crate::TriMesh;
@@ -230,30 +231,59 @@ impl Quotient {
     pub(crate) fn build(helix: &Helix, turning: &TriMesh, still: &TriMesh, delta: f64) -> Self {
         // Each body's images in its hierarchy's leaf order, `None` for triangles too near the
         // axis; the corners' invariants once per vertex.
-        let images = |mesh: &TriMesh, pose: &Pose| -> Vec<Option<([[f64; 2]; 3], f64)>> {
-            let corners: Vec<Corner> = mesh
-                .vertices()
+        let corners = |mesh: &TriMesh, pose: &Pose| -> Vec<Corner> {
+            mesh.vertices()
                 .iter()
                 .map(|&v| helix.vertex(pose.transform_point(v)))
-                .collect();
+                .collect()
+        };
+        let (corners_t, corners_s) = (
+            corners(turning, helix.start()),
+            corners(still, helix.still_pose()),
+        );
+        // Along the axis: where the turning body's triangle, over the whole slide, and the
+        // still body (or the other way round) are farther apart than the tolerance, no pair
+        // of theirs ever comes within it, and the triangle needs no image (most of a bolt
+        // longer than its nut).
+        let z_range = |cs: &[Corner]| cs.iter().fold(Range::EMPTY, |r, c| r.with(c.z()));
+        let travel = helix.travel();
+        let slid = |r: Range| Range {
+            lo: r.lo + travel.min(0.0),
+            hi: r.hi + travel.max(0.0),
+        };
+        let (reach_t, reach_s) = (slid(z_range(&corners_t)), z_range(&corners_s));
+        // Each body's triangles in its hierarchy's leaf order: whether it is open (too near
+        // the axis for an image), and its image where it needs one (none where it is resolved
+        // along the axis).
+        type Imaged = (bool, Option<([[f64; 2]; 3], f64)>);
+        let images = |mesh: &TriMesh, cs: &[Corner], moves: bool, other: Range| -> Vec<Imaged> {
             let bvh = mesh.bvh();
             (0..bvh.leaf_triangles().len())
                 .map(|i| {
-                    let tri = mesh.triangles()[bvh.triangle_index(i as u32)];
-                    helix.image(tri.map(|v| &corners[v as usize]))
+                    let tri =
+                        mesh.triangles()[bvh.triangle_index(i as u32)].map(|v| &cs[v as usize]);
+                    let z = tri.iter().fold(Range::EMPTY, |r, c| r.with(c.z()));
+                    let z = if moves { slid(z) } else { z };
+                    if z.gap(other) > delta {
+                        return (false, None);
+                    }
+                    let image = helix.image(tri);
+                    (image.is_none(), image)
                 })
                 .collect()
         };
         let (all_t, all_s) = (
-            images(turning, helix.start()),
-            images(still, helix.still_pose()),
+            images(turning, &corners_t, true, reach_s),
+            images(still, &corners_s, false, reach_t),
         );
-        let mut open_t: Vec<bool> = all_t.iter().map(Option::is_none).collect();
-        let mut open_s: Vec<bool> = all_s.iter().map(Option::is_none).collect();
+        let mut open_t: Vec<bool> = all_t.iter().map(|im| im.0).collect();
+        let mut open_s: Vec<bool> = all_s.iter().map(|im| im.0).collect();
         let images_t: Vec<Image> = all_t
             .iter()
             .enumerate()
-            .filter_map(|(i, im)| im.map(|(corners, margin)| Image::new(corners, margin, i as u32)))
+            .filter_map(|(i, im)| {
+                im.1.map(|(corners, margin)| Image::new(corners, margin, i as u32))
+            })
             .collect();
         // The still images are repeated on every branch of the phase (whole periods up or
         // down) that comes within the tolerance and the margins of a turning image: on any
@@ -276,7 +306,7 @@ impl Quotient {
             });
         let mut images_s = Vec::with_capacity(all_s.len() + all_s.len() / 4);
         for (j, im) in all_s.iter().enumerate() {
-            let Some((corners, margin)) = *im else {
+            let Some((corners, margin)) = im.1 else {
                 continue;
             };
             let image = Image::new(corners, margin, j as u32);
