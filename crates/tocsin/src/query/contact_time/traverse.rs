@@ -844,11 +844,14 @@ impl<'a> StepSearch<'a> {
         }
         if let (Some(_), Some((l1, l2)), false) = (&self.shells, self.best_pair, self.shells_on) {
             self.shells_on = self.rotation_limited(l1, l2);
-            if self.shells_on {
-                // The certificates may free the whole window that this pair limited: search
-                // again with them (once per query: they stay on), rather than take the short
-                // step and grow the window back over several iterations (a tapered shaft
-                // turning in its bore, whose first probe missed: 6 iterations, 6.4 ms).
+            if self.shells_on && t == 0.0 {
+                // A close fit from the start: the certificates may free the whole window that
+                // this pair limited, so search again with them (once: they stay on), rather
+                // than take the short step and grow the window back over several iterations
+                // (a tapered shaft turning in its bore, whose first probe missed: 6
+                // iterations, 6.4 ms). Not later: an ordinary screw's pass that turns them on
+                // near its contact would pay for a second traversal (the Panda link's
+                // screws, 3% more time).
                 return self.run(t, window, slack, None);
             }
         }
