@@ -290,29 +290,25 @@ impl Quotient {
         // other, every pair is farther apart than that in the phase alone.
         let period = helix.period();
         let span = |im: &Image| {
-            let (lo, hi) = im
-                .corners
-                .iter()
-                .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), c| {
-                    (l.min(c[1]), h.max(c[1]))
-                });
-            (lo - im.margin, hi + im.margin)
+            let r = im.corners.iter().fold(Range::EMPTY, |r, c| r.with(c[1]));
+            Range {
+                lo: r.lo - im.margin,
+                hi: r.hi + im.margin,
+            }
         };
-        let (t_lo, t_hi) = images_t
+        let reach = images_t
             .iter()
             .map(span)
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), (a, b)| {
-                (l.min(a), h.max(b))
-            });
+            .fold(Range::EMPTY, |r, s| r.with(s.lo).with(s.hi));
         let mut images_s = Vec::with_capacity(all_s.len() + all_s.len() / 4);
         for (j, im) in all_s.iter().enumerate() {
             let Some((corners, margin)) = im.1 else {
                 continue;
             };
             let image = Image::new(corners, margin, j as u32);
-            let (lo, hi) = span(&image);
-            let first = ((t_lo - delta - hi) / period).ceil();
-            let last = ((t_hi + delta - lo) / period).floor();
+            let own = span(&image);
+            let first = ((reach.lo - delta - own.hi) / period).ceil();
+            let last = ((reach.hi + delta - own.lo) / period).floor();
             if last - first > 4.0 {
                 // Spread over several periods (a triangle across many turns of the thread):
                 // left to the per-pair bounds.
