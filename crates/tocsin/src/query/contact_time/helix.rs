@@ -459,8 +459,9 @@ impl Helix {
         )
     }
 
-    /// The turning triangle `t1` against the still triangle `t2` (body frames).
-    /// Beyond `need` it stops refining.
+    /// A lower bound on the distance between the turning triangle `turning` and the still
+    /// triangle `still` (each in its body frame) over the whole motion. Beyond `need` it stops
+    /// refining.
     pub(crate) fn triangle_pair(&self, turning: &[Vec3; 3], still: &[Vec3; 3], need: f64) -> f64 {
         let (a, b) = (
             turning.map(|p| self.start.transform_point(p)),
@@ -485,11 +486,8 @@ impl Helix {
     /// `(rho, s zeta)`, on the nearest branch of the phase; `None` where they coincide.
     pub(crate) fn between(&self, a: Vec3, b: Vec3) -> Option<Direction> {
         let image = |x: Vec3| {
-            let rel = x - self.point;
-            let z = rel.dot(self.dir);
-            let perp = rel - self.dir * z;
-            let phi = perp.dot(self.e2).atan2(perp.dot(self.e1));
-            (perp.length(), z - self.k * phi)
+            let c = self.vertex(x);
+            (c.perp.length(), c.z - self.k * c.phi)
         };
         let ((ra, za), (rb, zb)) = (image(a), image(b));
         let mut dz = zb - za;
@@ -513,8 +511,8 @@ mod tests {
     use rand::{Rng, SeedableRng};
     use rand_chacha::ChaCha8Rng;
 
-    /// A random screw (axis through a random point, `turns` turns at most, advancing `k` per
-    /// radian) and its certificate against a still body at a random pose.
+    /// A random screw (axis through a random point, up to 6 radians, advancing up to 0.3 per
+    /// radian either way) and its certificate against a still body at a random pose.
     fn random_helix(rng: &mut ChaCha8Rng) -> (Motion, Pose, Helix) {
         let dir = unit(rng);
         let point = unit(rng) * rng.random_range(0.0..2.0);
