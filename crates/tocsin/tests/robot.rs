@@ -569,11 +569,74 @@ fn oracle_first_collision(robot: &Robot, q0: &[f64], q1: &[f64], scene: &Scene) 
     None
 }
 
+/// The segment queries on `q0 -> q1` against the oracle: never a missed or late collision,
+/// never a contact farther apart than the tolerance, `path_is_free` agreeing, the reported
+/// distances and points right, and a free answer confirmed by brute force at 201 evenly
+/// spaced configurations. `Some(self_collision)` for a contact, `None` for a free segment.
+fn check_edge(robot: &Robot, q0: &[f64], q1: &[f64], scene: &Scene, case: &str) -> Option<bool> {
+    let opts = RobotOptions {
+        witnesses: tocsin::Witnesses::Contact,
+        ..RobotOptions::default()
+    };
+    let tol = query::robot_tolerance(robot, &opts);
+    let got = query::time_of_contact(robot, q0, q1, scene, &opts).unwrap();
+    let is_free = query::path_is_free(robot, q0, q1, scene, &opts).unwrap();
+    assert_eq!(is_free, got.is_none(), "{case}: path_is_free disagrees");
+    let first = oracle_first_collision(robot, q0, q1, scene);
+    match (&got, first) {
+        (None, Some(t)) => panic!("{case}: missed a collision at t = {t}"),
+        (Some(c), first) => {
+            if let Some(t) = first {
+                assert!(c.time <= t + 1e-12, "{case}: late ({} > {t})", c.time);
+            }
+            let d = oracle_distance(robot, &lerp(q0, q1, c.time), scene);
+            assert!(
+                d <= tol * (1.0 + 1e-9),
+                "{case}: false positive, distance {d} > {tol}"
+            );
+            // The contact pair's points: as far apart as the distance reported, which is
+            // within the tolerance and at least the robot's.
+            assert!(
+                c.distance >= d - 1e-9 && c.distance <= tol * (1.0 + 1e-9),
+                "{case}: contact distance {} vs {d} (tolerance {tol})",
+                c.distance
+            );
+            assert!(((c.point2 - c.point1).length() - c.distance).abs() <= 1e-9);
+            // The closest points (the default): the same contact, at the exact distance.
+            let closest = RobotOptions::default();
+            let e = query::time_of_contact(robot, q0, q1, scene, &closest)
+                .unwrap()
+                .expect("the same advancement");
+            assert_eq!(
+                (e.time, &e.object1, &e.object2),
+                (c.time, &c.object1, &c.object2)
+            );
+            assert!(
+                (e.distance - d).abs() <= 1e-9,
+                "{case}: reported distance {} vs {d}",
+                e.distance
+            );
+            Some(c.self_collision)
+        }
+        (None, None) => {
+            for k in 0..=200 {
+                let q = lerp(q0, q1, k as f64 / 200.0);
+                assert!(
+                    !brute_collides(robot, &q, scene),
+                    "{case}: collision at sample {k} missed"
+                );
+            }
+            None
+        }
+    }
+}
+
 #[test]
 fn random_chains_against_dense_sampling() {
     let dir = scratch("chains");
     let mut rng = common::rng(31);
     let (mut contacts, mut free, mut self_hits) = (0, 0, 0);
+    let mut single = (0, 0);
     for case in 0..150 {
         let links = 2 + case % 7;
         let robot = random_chain(&mut rng, &dir, links);
@@ -597,68 +660,22 @@ fn random_chains_against_dense_sampling() {
             continue;
         }
         let q1: Vec<f64> = q0.iter().map(|q| q + rng.random_range(-2.0..2.0)).collect();
-        let opts = RobotOptions {
-            witnesses: tocsin::Witnesses::Contact,
-            ..RobotOptions::default()
-        };
-        let tol = query::robot_tolerance(&robot, &opts);
-        let got = query::time_of_contact(&robot, &q0, &q1, &scene, &opts).unwrap();
-        let is_free = query::path_is_free(&robot, &q0, &q1, &scene, &opts).unwrap();
-        assert_eq!(
-            is_free,
-            got.is_none(),
-            "case {case}: path_is_free disagrees"
-        );
-        let first = oracle_first_collision(&robot, &q0, &q1, &scene);
-        match (&got, first) {
-            (None, Some(t)) => panic!("case {case}: missed a collision at t = {t}"),
-            (Some(c), first) => {
-                if let Some(t) = first {
-                    assert!(c.time <= t + 1e-12, "case {case}: late ({} > {t})", c.time);
-                }
-                let d = oracle_distance(&robot, &lerp(&q0, &q1, c.time), &scene);
-                assert!(
-                    d <= tol * (1.0 + 1e-9),
-                    "case {case}: false positive, distance {d} > {tol}"
-                );
-                // The contact pair's points: as far apart as the distance reported, which is
-                // within the tolerance and at least the robot's.
-                assert!(
-                    c.distance >= d - 1e-9 && c.distance <= tol * (1.0 + 1e-9),
-                    "case {case}: contact distance {} vs {d} (tolerance {tol})",
-                    c.distance
-                );
-                assert!(((c.point2 - c.point1).length() - c.distance).abs() <= 1e-9);
-                // The closest points (the default): the same contact, at the exact distance.
-                let closest = RobotOptions::default();
-                let e = query::time_of_contact(&robot, &q0, &q1, &scene, &closest)
-                    .unwrap()
-                    .expect("the same advancement");
-                assert_eq!(
-                    (e.time, &e.object1, &e.object2),
-                    (c.time, &c.object1, &c.object2)
-                );
-                assert!(
-                    (e.distance - d).abs() <= 1e-9,
-                    "case {case}: reported distance {} vs {d}",
-                    e.distance
-                );
-                if c.self_collision {
-                    self_hits += 1;
-                }
+        match check_edge(&robot, &q0, &q1, &scene, &format!("case {case}")) {
+            Some(self_collision) => {
+                self_hits += usize::from(self_collision);
                 contacts += 1;
             }
-            (None, None) => {
-                // Free: brute force agrees at 201 evenly spaced configurations.
-                for k in 0..=200 {
-                    let q = lerp(&q0, &q1, k as f64 / 200.0);
-                    assert!(
-                        !brute_collides(&robot, &q, &scene),
-                        "case {case}: collision at sample {k} missed"
-                    );
-                }
-                free += 1
-            }
+            None => free += 1,
+        }
+        // One joint alone, by up to 4.5 rad: a revolute joint's links then turn about a line
+        // fixed in the world (or in the frame of the body a self pair hangs from) and go
+        // through the rigid query with its rotation certificates, turns over pi included.
+        let mut q1 = q0.clone();
+        let j = rng.random_range(0..robot.dof());
+        q1[j] += rng.random_range(0.5..4.5) * if rng.random_bool(0.5) { 1.0 } else { -1.0 };
+        match check_edge(&robot, &q0, &q1, &scene, &format!("case {case}, joint {j}")) {
+            Some(_) => single.0 += 1,
+            None => single.1 += 1,
         }
     }
     assert!(
@@ -666,6 +683,80 @@ fn random_chains_against_dense_sampling() {
         "{contacts} contacts, {free} free: the set should mix both"
     );
     assert!(self_hits >= 1, "no self-collision among the contacts");
+    assert!(
+        single.0 >= 20 && single.1 >= 20,
+        "one joint: {single:?} contacts and free edges: the set should mix both"
+    );
+}
+
+/// A 64-sided shaft turning one and a half turns in a 64-sided bore whose faces clear its
+/// edges by 0.5% of its radius (above the tolerance: free), and the same with a key on the
+/// shaft that runs in a groove of the bore until it meets a stop half a turn on (a contact).
+/// The bore is an obstacle, then a link the shaft's chain hangs from while the arm carrying
+/// both also moves (a self pair, relative to that link); the answers go against the oracle.
+#[test]
+fn shafts_turning_in_bores_against_dense_sampling() {
+    use std::f64::consts::PI;
+    let dir = scratch("shafts");
+    let (r, n) = (0.05, 64);
+    // The bore's faces lie at `R cos(pi / n)` from the axis: 0.5% outside the shaft's edges.
+    let bore_r = r * 1.005 / (PI / n as f64).cos();
+    let in_stop = |a: f64| (PI..PI + 0.3).contains(&a);
+    for keyed in [false, true] {
+        let shaft = tocsin::mesh::revolved(
+            |a, _| if keyed && a < 0.3 { r + 0.01 } else { r },
+            0.2,
+            n,
+            4,
+        )
+        .unwrap();
+        let bore = tocsin::mesh::revolved(
+            |a, _| if !keyed || in_stop(a) { bore_r } else { 0.07 },
+            0.3,
+            n,
+            4,
+        )
+        .unwrap();
+        let (shaft_file, bore_file) = (dir.join("shaft.obj"), dir.join("bore.obj"));
+        write_obj(&shaft_file, &shaft);
+        write_obj(&bore_file, &bore);
+        let shaft_link = format!("<mesh filename='{}'/>", shaft_file.display());
+        // The bore as an obstacle, the shaft on one continuous joint.
+        let xml = robot_xml(&format!(
+            "{}{}{}",
+            link("base", ""),
+            link("shaft", &shaft_link),
+            joint("spin", "continuous", "base", "shaft", "0 0 0", "0 0 1"),
+        ));
+        let robot = Robot::from_urdf_str(&xml, None, &[]).unwrap();
+        let mut scene = Scene::new();
+        scene.add("bore", Arc::new(bore.clone()), Pose::IDENTITY);
+        let case = format!("keyed {keyed}, bore obstacle");
+        let got = check_edge(&robot, &[0.0], &[3.0 * PI], &scene, &case);
+        assert_eq!(got.is_some(), keyed, "{case}");
+        // The bore on a link, the shaft two joints below it, all on an arm that swings.
+        let xml = robot_xml(&format!(
+            "{}{}{}{}{}{}{}",
+            link("base", ""),
+            link("holder", &format!("<mesh filename='{}'/>", bore_file.display())),
+            link("mid", ""),
+            link("shaft", &shaft_link),
+            joint("arm", "revolute", "base", "holder", "0.3 0 0", "0 1 0"),
+            joint("still", "revolute", "holder", "mid", "0 0 0", "0 0 1"),
+            joint("spin", "continuous", "mid", "shaft", "0 0 0", "0 0 1"),
+        ));
+        let robot = Robot::from_urdf_str(&xml, None, &[]).unwrap();
+        assert_eq!(robot.self_pairs().len(), 1, "holder and shaft are checked");
+        let case = format!("keyed {keyed}, bore on the arm");
+        let got = check_edge(
+            &robot,
+            &[0.0, 0.0, 0.0],
+            &[0.5, 0.0, -3.0 * PI],
+            &Scene::new(),
+            &case,
+        );
+        assert_eq!(got, keyed.then_some(true), "{case}");
+    }
 }
 
 /// A rod turning about z sweeps its tip past a box: free at 1% clearance, a contact at -1%,

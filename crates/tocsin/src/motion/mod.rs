@@ -208,6 +208,39 @@ impl Motion {
         Ok(m)
     }
 
+    /// A turn by `angle` radians (any size, a sign for the sense) about the world line through
+    /// `point` along the unit `dir`, starting at `start`: the motion of a robot link when only
+    /// one revolute joint above it moves, which may turn by more than `pi` (a screw between two
+    /// poses cannot). Its kind is [`MotionKind::Screw`], with twist `(w, point x w)`,
+    /// `w = angle dir`, so that the velocity field is `w x (X - point)`. The inputs are the
+    /// caller's to check (finite, `dir` a unit vector).
+    pub(crate) fn turn(start: Pose, point: Vec3, dir: Vec3, angle: f64) -> Self {
+        if angle == 0.0 {
+            return Self::stationary(start);
+        }
+        let (w, angular) = if angle > 0.0 {
+            (dir, dir * angle)
+        } else {
+            (-dir, dir * angle)
+        };
+        let twist = point.cross(angular);
+        // The foot of the axis nearest the origin, as `screw` takes it (`w x twist / theta`).
+        let q = point - w * w.dot(point);
+        let axis_point = start.inverse().transform_point(q);
+        let mut m = Self::build(
+            MotionKind::Screw,
+            start,
+            start,
+            Vec3::ZERO,
+            angular,
+            axis_point,
+            q,
+        );
+        m.twist = twist;
+        m.end = m.screw_pose(1.0);
+        m
+    }
+
     fn build(
         kind: MotionKind,
         start: Pose,
@@ -280,15 +313,17 @@ impl Motion {
                         - rotation::turn_displacement(turn, lever),
                 }
             }
-            MotionKind::Screw => {
-                // exp(t (angular, twist)) applied to the start pose.
-                let turn = rotation_exp(self.angular * t);
-                Pose {
-                    rotation: turn * self.start.rotation,
-                    translation: turn * self.start.translation
-                        + rotation::jacobian_apply(self.angular * t, self.twist * t),
-                }
-            }
+            MotionKind::Screw => self.screw_pose(t),
+        }
+    }
+
+    /// A screw's pose at `t`: `exp(t (angular, twist))` applied to the start pose.
+    fn screw_pose(&self, t: f64) -> Pose {
+        let turn = rotation_exp(self.angular * t);
+        Pose {
+            rotation: turn * self.start.rotation,
+            translation: turn * self.start.translation
+                + rotation::jacobian_apply(self.angular * t, self.twist * t),
         }
     }
 

@@ -63,6 +63,7 @@
 //! rectangles) and check it never exceeds either bound.
 
 use crate::math::{Mat3, Pose, Vec3};
+use crate::motion::Motion;
 
 /// A moving joint's frame and axis, with the products that give `origin * J(q)` in one step.
 ///
@@ -216,6 +217,29 @@ impl<'f> ChainPath<'f> {
             pose = pose.mul(&s.frame.at(s.q0 + t * s.dq));
         }
         pose
+    }
+
+    /// The same motion as a rigid one, when it is one the rigid query serves better: a body
+    /// that does not move, or one that turns with a single revolute joint while every other
+    /// joint of its chain stands still. The turn is about a line fixed in the world, so the
+    /// rigid query's rotation certificates apply (a wrist turning at a small clearance from
+    /// a shelf, docs/BENCHMARKS.md). `None` for any other motion.
+    pub fn rigid(&self) -> Option<Motion> {
+        let mut moving = self.steps.iter().enumerate().filter(|(_, s)| s.dq != 0.0);
+        let Some((j, step)) = moving.next() else {
+            return Some(Motion::stationary(self.pose_at(0.0)));
+        };
+        if moving.next().is_some() || step.frame.prismatic {
+            return None;
+        }
+        // The pose of joint j's parent body, which does not move.
+        let mut parent = self.base;
+        for s in &self.steps[..j] {
+            parent = parent.mul(&s.frame.at(s.q0));
+        }
+        let point = parent.transform_point(step.frame.origin.translation);
+        let dir = (parent.rotation * step.frame.o_axis).normalize();
+        Some(Motion::turn(self.pose_at(0.0), point, dir, step.dq))
     }
 
     /// The body's world pose at time `t`, and the link's velocity field there with the window
@@ -414,5 +438,70 @@ mod tests {
             "bound too loose: mean ratio {}",
             tight / 400.0
         );
+    }
+
+    /// [`ChainPath::rigid`] against the chain's own poses: random chains where one joint moves
+    /// (revolute: a turn of up to 4.5 rad, over pi included; prismatic: none) or none does
+    /// (stationary), compared at random times and at both ends.
+    #[test]
+    fn rigid_turns_follow_the_chain() {
+        let mut rng = ChaCha8Rng::seed_from_u64(7);
+        let (mut turns, mut still) = (0, 0);
+        for case in 0..300 {
+            let m = 1 + case % 6;
+            let frames: Vec<JointFrame> = (0..m)
+                .map(|_| {
+                    JointFrame::new(
+                        Pose::from_axis_angle(
+                            unit(&mut rng),
+                            rng.random_range(-3.0..3.0),
+                            unit(&mut rng) * rng.random_range(0.0..0.6),
+                        ),
+                        unit(&mut rng),
+                        rng.random_bool(0.25),
+                    )
+                })
+                .collect();
+            let moving = (case % 5 != 0).then(|| rng.random_range(0..m));
+            let steps: Vec<ChainStep> = frames
+                .iter()
+                .enumerate()
+                .map(|(j, frame)| ChainStep {
+                    frame,
+                    q0: rng.random_range(-1.5..1.5),
+                    dq: if moving == Some(j) {
+                        rng.random_range(-4.5..4.5)
+                    } else {
+                        0.0
+                    },
+                    r_chain: 0.0,
+                    omega_before: 0.0,
+                    v_rel: 0.0,
+                })
+                .collect();
+            let base = Pose::from_axis_angle(unit(&mut rng), 1.0, unit(&mut rng));
+            let path = ChainPath::new(base, steps, 0.5);
+            let Some(motion) = path.rigid() else {
+                assert!(moving.is_some_and(|j| frames[j].prismatic), "case {case}");
+                continue;
+            };
+            if motion.is_stationary() {
+                still += 1;
+            } else {
+                turns += 1;
+            }
+            for k in 0..12 {
+                let t = match k {
+                    0 => 0.0,
+                    1 => 1.0,
+                    _ => rng.random_range(0.0..1.0),
+                };
+                let (a, b) = (path.pose_at(t), motion.pose_at(t));
+                let x = unit(&mut rng) * 0.5;
+                let gap = (a.transform_point(x) - b.transform_point(x)).length();
+                assert!(gap < 1e-12, "case {case}, t {t}: {gap} apart");
+            }
+        }
+        assert!(turns > 150 && still > 40, "{turns} turns, {still} still");
     }
 }

@@ -184,6 +184,8 @@ struct Segment<'r> {
     v1: Vec<f64>,
     /// Each object's world path.
     paths: Vec<ChainPath<'r>>,
+    /// Each object's world path as a rigid motion, where it is one ([`ChainPath::rigid`]).
+    rigid: Vec<Option<Motion>>,
     delta: f64,
     max_iterations: usize,
     /// Levels of the binary time subdivision used by the culling.
@@ -328,12 +330,14 @@ impl<'r> Segment<'r> {
         let paths = (0..robot.objects.len())
             .map(|o| robot.object_path(o, &v0, &v1, 0))
             .collect::<Vec<_>>();
+        let rigid = paths.iter().map(ChainPath::rigid).collect();
         Ok(Self {
             robot,
             scene,
             v0,
             v1,
             paths,
+            rigid,
             delta: robot_tolerance(robot, options),
             max_iterations: options.max_iterations,
             depth: options.cull_depth,
@@ -579,7 +583,7 @@ impl<'r> Segment<'r> {
     /// The pair's two paths: for two robot objects, relative to the deepest body both hang
     /// from (the joints they share move both alike and drop out of the bound), with that
     /// body's index.
-    fn pair_paths(&self, pair: Pair) -> (Option<(ChainPath<'r>, ChainPath<'r>)>, usize) {
+    fn pair_paths(&self, pair: Pair) -> (Option<Relative<'r>>, usize) {
         if pair.obstacle {
             return (None, 0);
         }
@@ -589,13 +593,12 @@ impl<'r> Segment<'r> {
         }
         let chain = &self.robot.bodies[self.robot.objects[pair.a].body].chain;
         let ancestor = self.robot.joints[chain[common - 1]].child;
-        (
-            Some((
-                self.robot.object_path(pair.a, &self.v0, &self.v1, common),
-                self.robot.object_path(pair.b, &self.v0, &self.v1, common),
-            )),
-            ancestor,
-        )
+        let chains = [
+            self.robot.object_path(pair.a, &self.v0, &self.v1, common),
+            self.robot.object_path(pair.b, &self.v0, &self.v1, common),
+        ];
+        let rigid = rigid_pair(chains[0].rigid(), chains[1].rigid());
+        (Some(Relative { chains, rigid }), ancestor)
     }
 
     /// Advances every candidate; `first_only` stops at the first contact found.
@@ -737,28 +740,57 @@ impl<'r> Segment<'r> {
     fn meshes<'s>(
         &'s self,
         pair: Pair,
-        relative: Option<&'s (ChainPath<'r>, ChainPath<'r>)>,
+        relative: Option<&'s Relative<'r>>,
     ) -> (&'s TriMesh, Path<'s>, &'s TriMesh, Path<'s>) {
         let a = &self.robot.objects[pair.a];
+        let world = |o: usize| match &self.rigid[o] {
+            Some(m) => Path::Rigid(m),
+            None => Path::Chain(&self.paths[o]),
+        };
         if pair.obstacle {
             let o = &self.scene.obstacles[pair.b];
-            return (
-                &a.mesh,
-                Path::Chain(&self.paths[pair.a]),
-                &o.mesh,
-                Path::Rigid(&o.motion),
-            );
+            let link = match &self.rigid[pair.a] {
+                Some(m) if m.is_stationary() || o.motion.is_stationary() => Path::Rigid(m),
+                _ => Path::Chain(&self.paths[pair.a]),
+            };
+            return (&a.mesh, link, &o.mesh, Path::Rigid(&o.motion));
         }
         let b = &self.robot.objects[pair.b];
         match relative {
-            Some((pa, pb)) => (&a.mesh, Path::Chain(pa), &b.mesh, Path::Chain(pb)),
-            None => (
-                &a.mesh,
-                Path::Chain(&self.paths[pair.a]),
-                &b.mesh,
-                Path::Chain(&self.paths[pair.b]),
-            ),
+            Some(Relative {
+                rigid: Some([ma, mb]),
+                ..
+            }) => (&a.mesh, Path::Rigid(ma), &b.mesh, Path::Rigid(mb)),
+            Some(Relative { chains: [pa, pb], .. }) => {
+                (&a.mesh, Path::Chain(pa), &b.mesh, Path::Chain(pb))
+            }
+            None => match rigid_pair(self.rigid[pair.a], self.rigid[pair.b]) {
+                Some(_) => (&a.mesh, world(pair.a), &b.mesh, world(pair.b)),
+                None => (
+                    &a.mesh,
+                    Path::Chain(&self.paths[pair.a]),
+                    &b.mesh,
+                    Path::Chain(&self.paths[pair.b]),
+                ),
+            },
         }
+    }
+}
+
+/// Two robot objects' paths relative to the deepest body both hang from
+/// ([`Segment::pair_paths`]), and the same as rigid motions where [`rigid_pair`] takes them.
+struct Relative<'r> {
+    chains: [ChainPath<'r>; 2],
+    rigid: Option<[Motion; 2]>,
+}
+
+/// Two paths as rigid motions when both are rigid and one stands still: the rigid query's
+/// rotation certificates then serve a link that turns past the other (a wrist turning near
+/// the forearm). Two moving bodies keep their chains (their bound is the same either way).
+fn rigid_pair(a: Option<Motion>, b: Option<Motion>) -> Option<[Motion; 2]> {
+    match (a, b) {
+        (Some(a), Some(b)) if a.is_stationary() || b.is_stationary() => Some([a, b]),
+        _ => None,
     }
 }
 

@@ -542,6 +542,7 @@ fn advance_core<const PROBING: bool>(
         (delta, span.contact),
         cache.simplex,
     );
+    search.start = span.start;
     let mut t = span.start;
     let mut earlier = None;
     let mut last_distance = f64::INFINITY;

@@ -125,6 +125,9 @@ pub(crate) struct StepSearch<'a> {
     /// by the spread of a pair's volumes under rotation rather than by how fast they approach
     /// (see [`Self::rotation_limited`]). Where they do not help, they would only cost.
     shells_on: bool,
+    /// The time the advancement starts from (a robot pair's span may start after 0): the
+    /// first iteration decides on the certificates before it traverses.
+    pub(crate) start: f64,
     /// GJK on the two meshes when both are convex polytopes ([`crate::query::distance::gjk`]):
     /// the two whole bodies' separation certifies the step before any traversal.
     convex: Option<Gjk<'a>>,
@@ -353,6 +356,7 @@ impl<'a> StepSearch<'a> {
             stack: Vec::with_capacity(64),
             shells,
             shells_on: false,
+            start: 0.0,
             convex,
             hull,
             hull_floor: 0.0,
@@ -723,7 +727,7 @@ impl<'a> StepSearch<'a> {
         if let Some(out) = self.convex_iteration() {
             return out;
         }
-        if self.shells.is_some() && !self.shells_on && t == 0.0 {
+        if self.shells.is_some() && !self.shells_on && t == self.start {
             // Decide before the first traversal, which without the certificates is the slowest
             // (a ball in its socket: 57 ms of 92), and before the warm pair, which they may
             // certify: probe the nearest pair of a dive.
@@ -742,7 +746,7 @@ impl<'a> StepSearch<'a> {
                 };
             }
         }
-        if let (Some(shells), true, true) = (&self.shells, self.shells_on, t == 0.0) {
+        if let (Some(shells), true, true) = (&self.shells, self.shells_on, t == self.start) {
             // A close fit from the start: the whole-query certificate may pay.
             shells.allow_quotient();
         }
@@ -844,7 +848,7 @@ impl<'a> StepSearch<'a> {
         }
         if let (Some(_), Some((l1, l2)), false) = (&self.shells, self.best_pair, self.shells_on) {
             self.shells_on = self.rotation_limited(l1, l2);
-            if self.shells_on && t == 0.0 {
+            if self.shells_on && t == self.start {
                 // A close fit from the start: the certificates may free the whole window that
                 // this pair limited, so search again with them (once: they stay on), rather
                 // than take the short step and grow the window back over several iterations
