@@ -242,6 +242,44 @@ impl<'f> ChainPath<'f> {
         Some(Motion::turn(self.pose_at(0.0), point, dir, step.dq))
     }
 
+    /// The chain's last moving joint, when it turns (revolute) and other joints before it
+    /// move too: the link then turns about a line fixed in that joint's parent body, which
+    /// itself moves (a wrist turning while the arm moves a little; `query/frozen.rs`).
+    pub fn last_turn(&self) -> Option<usize> {
+        let j = self.steps.iter().rposition(|s| s.dq != 0.0)?;
+        let before = self.steps[..j].iter().any(|s| s.dq != 0.0);
+        (before && !self.steps[j].frame.prismatic).then_some(j)
+    }
+
+    /// The world pose at time `t` of the body that joint `j` hangs from.
+    pub fn parent_pose(&self, j: usize, t: f64) -> Pose {
+        let mut pose = self.base;
+        for s in &self.steps[..j] {
+            pose = pose.mul(&s.frame.at(s.q0 + t * s.dq));
+        }
+        pose
+    }
+
+    /// The motion of the body that joint `j` hangs from, for points within `reach` of that
+    /// body's origin: its [`ChainPath::max_speed`] bounds how fast such points move.
+    pub fn parent_path(&self, j: usize, reach: f64) -> ChainPath<'f> {
+        ChainPath::new(self.base, self.steps[..j].to_vec(), reach)
+    }
+
+    /// Joint `j`'s turn in its parent body's frame, as a rigid motion, when every joint after
+    /// it stands still: the link's pose there is `origin_j J(q_j(t)) tail`, and since turns
+    /// about one axis commute, `origin_j J(q0 + t dq) = T(t dq) origin_j J(q0)` with `T` the
+    /// turn about the axis line through the joint's origin.
+    pub fn turn_in_parent(&self, j: usize) -> Motion {
+        let step = &self.steps[j];
+        let mut pose = step.frame.at(step.q0);
+        for s in &self.steps[j + 1..] {
+            pose = pose.mul(&s.frame.at(s.q0));
+        }
+        let dir = step.frame.o_axis.normalize();
+        Motion::turn(pose, step.frame.origin.translation, dir, step.dq)
+    }
+
     /// The body's world pose at time `t`, and the link's velocity field there with the window
     /// constants (world frame, module docs): one pass down the chain gives both.
     pub fn state_at(&self, t: f64) -> (Pose, ChainKinematics) {

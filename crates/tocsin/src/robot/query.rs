@@ -33,6 +33,8 @@
 //! collides), never when every pair stays farther apart than `delta`, and the time returned is
 //! no later than the first collision.
 
+mod frozen;
+
 use std::sync::Arc;
 
 use super::{chain::ChainPath, Robot, RobotError};
@@ -630,6 +632,14 @@ impl<'r> Segment<'r> {
             if start >= limit {
                 break;
             }
+            // A link turning fast on a slowly moving parent, past an obstacle: the frozen
+            // check may certify the span, or its first part (`query/frozen.rs`).
+            let end = end.min(limit);
+            let start = self.frozen_until(pair, start, end);
+
+            if start >= end {
+                continue;
+            }
             let (relative, _) = self.pair_paths(pair);
             let (m1, p1, m2, p2) = self.meshes(pair, relative.as_ref());
             let scale = m1.bounding_radius()
@@ -638,7 +648,7 @@ impl<'r> Segment<'r> {
                 + p2.pose_at(start).translation.length();
             let span = Span {
                 start,
-                end: end.min(limit),
+                end,
                 delta: self.delta,
                 resolution: NORMAL_RESOLUTION * scale,
                 contact: Span::contact(self.delta, scale),
@@ -761,9 +771,9 @@ impl<'r> Segment<'r> {
                 rigid: Some([ma, mb]),
                 ..
             }) => (&a.mesh, Path::Rigid(ma), &b.mesh, Path::Rigid(mb)),
-            Some(Relative { chains: [pa, pb], .. }) => {
-                (&a.mesh, Path::Chain(pa), &b.mesh, Path::Chain(pb))
-            }
+            Some(Relative {
+                chains: [pa, pb], ..
+            }) => (&a.mesh, Path::Chain(pa), &b.mesh, Path::Chain(pb)),
             None => match rigid_pair(self.rigid[pair.a], self.rigid[pair.b]) {
                 Some(_) => (&a.mesh, world(pair.a), &b.mesh, world(pair.b)),
                 None => (
