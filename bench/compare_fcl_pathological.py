@@ -16,6 +16,18 @@ median over ordinary passes for scale.
 - poles: UV spheres (1,024 triangles per pole fan) meeting pole to pole;
 - scale: knot34k on 16 ordinary interp passes (the issue's yardstick is knot34k's median).
 
+A second table takes the class to a robot ("robot wrists in narrow shelves"): the
+MotionBenchMaker UR5 (vamp-planner's URDF, SRDF and meshes, downloaded once by
+`robot_mbm.vamp_resources`) turns its last joint by 179 degrees while a shelf board stands
+0.15 mm beside its force-torque sensor (a 43K-triangle cylinder about that joint's axis; the
+board ends 4 mm short of the gripper along the axis). Rows: the wrist alone (the rigid query's
+rotation certificates); the wrist with `wrist_1_joint` moving 0.0001, 0.001 or 0.01 rad too
+(the turning axis then moves: the frozen checks of `robot/query/frozen.rs`, where the drift
+allows); the wrist alone with the board 5 cm away. tocsin's `Robot.time_of_contact` and
+`Robot.path_is_free` (self-collision included) beside Pinocchio + coal `computeCollisions` at
+101 states (a 1% resolution, FCL's naive solver's 100 samples), on the same triangles and pairs
+(`robot_mbm.Pinocchio`).
+
 Each library runs a loop over a case's queries (one query, or the 16 passes), the loops taking
 turns for `--repeats` rounds (`_common.sweeps`; a loop whose first round had a call over 20 ms
 is timed once); a case's time is the median over its queries of their rounds' medians.
@@ -120,6 +132,93 @@ def cases():
     yield "knot34k, 16 ordinary passes (scale)", knot, knot, "interp", passes, still
 
 
+WRIST_Q0 = np.array([0.0, -1.2, 1.5, -1.9, -1.57, 0.0])
+
+
+def wrist_cases():
+    """(name, robot, q0, q1, tocsin scene, MotionBenchMaker-style scene dict) for the robot
+    table (module docs)."""
+    from robot_mbm import vamp_resources
+
+    res = vamp_resources() / "ur5"
+    robot = tocsin.Robot.from_urdf(res / "ur5.urdf", srdf=res / "ur5.srdf")
+    names = robot.object_names
+    fts = robot.object_poses(WRIST_Q0)[names.index("fts_robotside")]
+    v = robot.object_mesh("fts_robotside").vertices
+    rho = np.hypot(v[:, 0], v[:, 2]).max()  # the sensor's axis is its frame's y
+
+    def board(gap):
+        half = np.array([0.01, 0.015, 0.1])
+        at = fts.copy()
+        at[:3, 3] = fts[:3, :3] @ np.array([rho + gap + half[0], 0.095, 0.0]) + fts[:3, 3]
+        scene = tocsin.Scene()
+        scene.add("board", tocsin.Mesh.box(half), at)
+        w, x, y, z = quaternion(at[:3, :3])
+        mbm = {
+            "world": {
+                "collision_objects": [
+                    {
+                        "id": "board",
+                        "primitives": [{"type": "box", "dimensions": list(2 * half)}],
+                        "primitive_poses": [{"position": list(at[:3, 3]), "orientation": [x, y, z, w]}],
+                    }
+                ]
+            }
+        }
+        return scene, mbm
+
+    turn = WRIST_Q0.copy()
+    turn[5] += np.radians(179)
+    yield "UR5 wrist turning 179 deg, board 0.15 mm away", robot, res, turn, *board(1.5e-4)
+    for drift in (1e-4, 1e-3, 1e-2):
+        both = turn.copy()
+        both[3] += drift
+        yield f"the same, wrist_1 moving {drift:g} rad too", robot, res, both, *board(1.5e-4)
+    yield "UR5 wrist turning 179 deg, board 5 cm away", robot, res, turn, *board(0.05)
+
+
+def quaternion(r):
+    """(w, x, y, z) of a rotation matrix (its trace is above -1 for the boards here)."""
+    w = np.sqrt(max(1.0 + np.trace(r), 1e-300)) / 2
+    return w, (r[2, 1] - r[1, 2]) / (4 * w), (r[0, 2] - r[2, 0]) / (4 * w), (r[1, 0] - r[0, 1]) / (4 * w)
+
+
+def wrist_rows(repeats):
+    from robot_mbm import Pinocchio
+
+    rows = []
+    for name, robot, res, q1, scene, mbm in wrist_cases():
+        pin = Pinocchio(res / "ur5.urdf", robot)
+        geom = pin.scene(mbm)
+        states = [WRIST_Q0 + (q1 - WRIST_Q0) * k / 100 for k in range(101)]
+
+        def sampled():
+            return not any(pin.in_collision(geom, q) for q in states)
+
+        times, answers = sweeps(
+            {
+                "toc": [lambda: robot.time_of_contact(WRIST_Q0, q1, scene)],
+                "free": [lambda: robot.path_is_free(WRIST_Q0, q1, scene)],
+                "pin": [sampled],
+            },
+            rounds=repeats,
+        )
+        toc = answers["toc"][0]
+        rows.append(
+            (
+                name,
+                times["toc"][0],
+                times["free"][0],
+                times["pin"][0],
+                "free" if toc is None else f"t = {toc.time:.6f} ({toc.object1}, {toc.object2})",
+                answers["free"][0],
+                answers["pin"][0],
+            )
+        )
+        print(rows[-1], flush=True)
+    return rows
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--repeats", type=int, default=3)
@@ -161,6 +260,14 @@ def main():
     ]
     for name, n, a, b, what, theirs in rows:
         lines.append(f"| {name} | {n} | {a * 1e3:.2f} | {b * 1e3:.2f} | {what} | {theirs} |")
+    lines += [
+        "",
+        "| robot case | tocsin time_of_contact (ms) | tocsin path_is_free (ms) | pin+coal 101 states (ms) "
+        "| tocsin's answer | path_is_free | sampler: free |",
+        "|---|---:|---:|---:|---|---|---|",
+    ]
+    for name, a, b, c, what, free, theirs in wrist_rows(args.repeats):
+        lines.append(f"| {name} | {a * 1e3:.2f} | {b * 1e3:.2f} | {c * 1e3:.2f} | {what} | {free} | {theirs} |")
     write(args.out, "\n".join(lines))
 
 
