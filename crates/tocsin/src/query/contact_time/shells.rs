@@ -74,6 +74,9 @@ pub(crate) struct AxisShells {
     /// By node index, NaN where not yet worked out (allocated on first use; a hash map's
     /// hashing cost more than the distances: the 256-sided shaft took 0.75 ms instead of 0.4).
     still_rho: std::cell::RefCell<Vec<f64>>,
+    /// The exact range of the axial coordinate (from the axis point at `t = 0`) over a still
+    /// node's triangles, by node index, NaN where not yet worked out (allocated on first use).
+    still_z: std::cell::RefCell<Vec<[f64; 2]>>,
 }
 
 /// Ranges of a volume's distances from a line and along it, or from a point.
@@ -299,6 +302,11 @@ fn sphere(c: Vec3, e0: Vec3, e1: Vec3, l: [f64; 2], r: f64, o: Vec3) -> Range {
     }
 }
 
+/// A screw whose slide over the motion is below this fraction of the scene's scale (the
+/// turning body's size and how far it and its axis are from the origin) is taken as a pure
+/// turn by the helical certificates: the slide is rounding.
+const SLIDE_RESOLUTION: f64 = 1e-12;
+
 impl AxisShells {
     /// The certificate for this pair of motions, when it applies.
     pub(crate) fn new(
@@ -315,6 +323,13 @@ impl AxisShells {
             return None;
         };
         let axis = turning.fixed_axis()?;
+        // A screw between two poses of a pure turn slides by rounding (4e-16 for a robot
+        // wrist's half turn): a helix of that pitch only costs (its quotient took 80% of the
+        // query's instructions), and the meridian bounds, widened by the slide, serve it.
+        let scale = root.bounding_radius()
+            + axis.world_point.length()
+            + turning.start().translation.length();
+        let slides = axis.along.abs() > SLIDE_RESOLUTION * scale;
         Some(Self {
             axis,
             turning_is_1,
@@ -322,12 +337,13 @@ impl AxisShells {
             lambda: (root.center - axis.body_point).dot(axis.body_dir),
             corners: Default::default(),
             meridians: Default::default(),
-            helix: Helix::new(&axis, turning.start(), still.start()),
+            helix: Helix::new(&axis, turning.start(), still.start()).filter(|_| slides),
             helices: Default::default(),
             quotient: Default::default(),
             quotient_allowed: Default::default(),
             across: (plane_across(axis.body_dir), plane_across(axis.world_dir)),
             still_rho: Default::default(),
+            still_z: Default::default(),
         })
     }
 
@@ -450,6 +466,34 @@ impl AxisShells {
         r
     }
 
+    /// The exact range of the axial coordinate over the still mesh's node `index` of hierarchy
+    /// `bvh` ([`Self::still_z`]): its children's merged, a leaf's its triangle's corners'.
+    fn still_z_range(&self, bvh: &Bvh, index: u32) -> [f64; 2] {
+        {
+            let mut cache = self.still_z.borrow_mut();
+            if cache.is_empty() {
+                cache.resize(bvh.nodes().len(), [f64::NAN; 2]);
+            }
+            let r = cache[index as usize];
+            if !r[0].is_nan() {
+                return r;
+            }
+        }
+        let node = &bvh.nodes()[index as usize];
+        let r = if node.is_leaf() {
+            let ax = &self.axis;
+            let z = bvh.leaf_triangles()[node.leaf_position() as usize]
+                .map(|p| (self.still.transform_point(p) - ax.world_point).dot(ax.world_dir));
+            [z[0].min(z[1]).min(z[2]), z[0].max(z[1]).max(z[2])]
+        } else {
+            let (l, r) = node.children(index);
+            let (a, b) = (self.still_z_range(bvh, l), self.still_z_range(bvh, r));
+            [a[0].min(b[0]), a[1].max(b[1])]
+        };
+        self.still_z.borrow_mut()[index as usize] = r;
+        r
+    }
+
     /// A lower bound on the distance between the turning node `index` (triangles given) and
     /// the still mesh's node `still_index` over `[t, t + h]`, from the turning node's exact
     /// corner ranges (its largest `rho` and distance from `O`; both `z` ends) against the
@@ -484,31 +528,49 @@ impl AxisShells {
             axis_point,
             ax.world_dir,
         );
-        let g_z = (z_s.lo - slide - z_hi).max(z_lo - z_s.hi - slide).max(0.0);
+        let gap_z = |z_s: Range| (z_s.lo - slide - z_hi).max(z_lo - z_s.hi - slide).max(0.0);
+        let mut g_z = gap_z(z_s);
         let o_world = axis_point + ax.world_dir * self.lambda;
         let s_s = sphere(c, f0, f1, still.half_lengths, still.radius, o_world);
         let g_s = (s_s.lo - slide - s_hi).max(0.0);
-        let bound = |rho_s_lo: f64| {
+        let bound = |rho_s_lo: f64, g_z: f64| {
             let g_rho = (rho_s_lo - rho_hi).max(0.0);
             (g_rho * g_rho + g_z * g_z).sqrt().max(g_s)
         };
-        let mut lb = bound(rho_s.lo);
+        let mut lb = bound(rho_s.lo, g_z);
         if lb > need {
             return lb;
+        }
+        // The still node's exact axial range, where a corner of its first triangle lies
+        // outside the turning node's: a volume's range overhangs by its radius, and a board
+        // whose end stops 4 mm short of a gripper turning past it was not told apart from the
+        // gripper's nodes until the leaves (its corners at every level: 80% of the query).
+        let node = &still_bvh.nodes()[still_index as usize];
+        let first = still_bvh.leaf_triangles()[node.leaf_range().start][0];
+        let shift = ax.along * t;
+        let corner_z = (self.still.transform_point(first) - ax.world_point).dot(ax.world_dir);
+        if gap_z(Range::EMPTY.with(corner_z - shift)) > need {
+            let [lo, hi] = self.still_z_range(still_bvh, still_index);
+            g_z = g_z.max(gap_z(Range {
+                lo: lo - shift,
+                hi: hi - shift,
+            }));
+            lb = lb.max(bound(rho_s.lo, g_z));
+            if lb > need {
+                return lb;
+            }
         }
         // Not enough: the still side's exact smallest distance from the line (a volume over a
         // bore's faces reaches inside them by its chord's sagitta), worked out once per node,
         // unless a corner of the node's first triangle, whose distance from the line is at
         // least that smallest one, shows that it cannot be enough either (a socket around a
         // ball: there the distances from `O` decide, and the work cost the ball 20%).
-        let node = &still_bvh.nodes()[still_index as usize];
-        let corner = self
-            .still
-            .transform_point(still_bvh.leaf_triangles()[node.leaf_range().start][0]);
+        let corner = self.still.transform_point(first);
         let rel = corner - ax.world_point;
-        if bound((rel - ax.world_dir * rel.dot(ax.world_dir)).length()) > need {
+        if bound((rel - ax.world_dir * rel.dot(ax.world_dir)).length(), g_z) > need {
             lb = lb.max(bound(
                 rho_s.lo.max(self.still_rho_lo(still_bvh, still_index)),
+                g_z,
             ));
             if lb > need {
                 return lb;
@@ -867,6 +929,42 @@ mod tests {
     use rand::{Rng, SeedableRng};
     use rand_chacha::ChaCha8Rng;
 
+    /// A screw between two poses of a pure turn about an axis off the origin slides by
+    /// rounding only: no helical certificate (its quotient cost 80% of a robot wrist's query).
+    /// A real slide keeps it, however small against the turn.
+    #[test]
+    fn a_turn_that_slides_by_rounding_gets_no_helix() {
+        let root = *crate::mesh::box_mesh(Vec3::splat(0.05))
+            .expect("a box")
+            .bvh()
+            .root();
+        let start =
+            Pose::from_axis_angle(Vec3::new(0.3, -0.2, 0.9), 0.7, Vec3::new(-0.1, 0.6, 1.3));
+        let still = Motion::stationary(Pose::IDENTITY);
+        let dir = Vec3::new(-0.001, 0.03, -1.0).normalize();
+        let point = Vec3::new(-0.11, 0.66, 0.02);
+        for (slide, helix) in [(0.0, false), (1e-6, true), (0.1, true)] {
+            let turn = Pose::from_axis_angle(dir, 3.1, Vec3::ZERO);
+            let end = Pose {
+                rotation: turn.rotation * start.rotation,
+                translation: turn.rotation * (start.translation - point) + point + dir * slide,
+            };
+            let screw = Motion::screw(start, end).expect("a screw");
+            let axis = screw.fixed_axis().expect("a fixed axis");
+            assert!(
+                slide > 0.0 || axis.along != 0.0,
+                "the case should slide by rounding"
+            );
+            let shells = AxisShells::new(&screw, &still, &root, &root).expect("shells");
+            assert_eq!(
+                shells.helix.is_some(),
+                helix,
+                "slide {slide}: {}",
+                axis.along
+            );
+        }
+    }
+
     /// Triangles of a 128-sided shaft turning half a turn about its axis inside a bore of
     /// 1.004 times its radius, along the tubes' length (long and thin, as `tube` makes them):
     /// the triangle pair's bound holds (below the distance at every sampled angle) and is
@@ -1064,9 +1162,11 @@ mod meridian_tests {
     }
 
     /// Node pairs of two random soups, one turning (and sliding along the axis) past the
-    /// other: the volumes' bound, the turning node's exact ranges against the still volume,
-    /// and the triangles' bound are each at most the distance between the two nodes'
-    /// triangles at every sampled time of the window.
+    /// other: the volumes' bound, the turning node's exact ranges against the still volume
+    /// (refined to the end, and stopping at the first positive bound, which takes the still
+    /// node's exact ranges where a corner allows), and the triangles' bound are each at most
+    /// the distance between the two nodes' triangles at every sampled time of the window. In
+    /// half the cases the still soup sits along the axis, its nodes' axial ranges deciding.
     #[test]
     fn node_bounds_are_below_the_sampled_distances() {
         let mut rng = ChaCha8Rng::seed_from_u64(34);
@@ -1079,14 +1179,18 @@ mod meridian_tests {
                 .collect();
             crate::TriMesh::new(vertices, triangles).expect("soup")
         };
-        for case in 0..12 {
+        for case in 0..24 {
             let axis = unit(&mut rng);
             let slide = if case % 2 == 0 { 0.0 } else { 0.7 };
             let end = Pose::from_axis_angle(axis, 2.5, axis * slide);
             let motion = Motion::screw(Pose::IDENTITY, end).expect("screw");
             let still_pose = Pose::from_axis_angle(unit(&mut rng), 0.7, unit(&mut rng) * 0.3);
             let still = Motion::stationary(still_pose);
-            let offset = unit(&mut rng);
+            let offset = if case % 4 < 2 {
+                unit(&mut rng)
+            } else {
+                axis * rng.random_range(2.0..3.2) + unit(&mut rng) * 0.2
+            };
             let (m1, m2) = (soup(&mut rng, Vec3::ZERO), soup(&mut rng, offset));
             let (b1, b2) = (m1.bvh(), m2.bvh());
             let shells =
@@ -1099,9 +1203,11 @@ mod meridian_tests {
                     let tris1 = &b1.leaf_triangles()[a.leaf_range()];
                     let tris2 = &b2.leaf_triangles()[b.leaf_range()];
                     let mut lb = shells.lower_bound(&a.rss, &b.rss, (t, h), f64::INFINITY);
-                    let inner =
-                        shells.lower_bound_inner(i as u32, tris1, (b2, j as u32), (t, h), 1e9);
-                    lb = lb.max(inner);
+                    for need in [1e9, 0.0] {
+                        let inner =
+                            shells.lower_bound_inner(i as u32, tris1, (b2, j as u32), (t, h), need);
+                        lb = lb.max(inner);
+                    }
                     if a.is_leaf() && b.is_leaf() {
                         let tri = shells.lower_bound_triangles(&tris1[0], &tris2[0], (t, h), 1e9);
                         lb = lb.max(tri);
