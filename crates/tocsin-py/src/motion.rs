@@ -7,7 +7,7 @@ use pyo3::prelude::*;
 use tocsin::{Pose, Vec3};
 
 /// A rigid motion over t in [0, 1] from a start to an end pose (4x4 rigid transforms, world
-/// frame). Build one with Motion.translation, Motion.interp, Motion.screw or
+/// frame). Build one with Motion.translation, Motion.interp, Motion.screw, Motion.turn or
 /// Motion.stationary; pose_at(t) gives the pose along the way, within rounding of start at
 /// t = 0 and of end at t = 1 for every rotation angle in [0, pi].
 #[pyclass(frozen, module = "tocsin._core")]
@@ -58,6 +58,36 @@ impl Motion {
         Ok(Self { inner })
     }
 
+    /// A turn by `angle` radians (any size; its sign gives the sense about `axis`, right-hand
+    /// rule) about the world line through `point` along `axis`, from the pose `start`:
+    /// pose_at(t) is start turned by t * angle about that line. A screw between two poses
+    /// stops at pi; a turn may go round several times (a wheel on its axle, a turntable). The
+    /// rotation certificates serve a body symmetric about the line in a close fit. MotionError
+    /// for a zero or non-finite axis, a non-finite point or angle, or a start that is not rigid.
+    #[staticmethod]
+    fn turn(
+        start: &Bound<'_, PyAny>,
+        point: &Bound<'_, PyAny>,
+        axis: &Bound<'_, PyAny>,
+        angle: f64,
+    ) -> PyResult<Self> {
+        let py = start.py();
+        let a = pose_from(start, "start")?;
+        let p = vec3_from(point, "point", "MotionError")?;
+        let dir = vec3_from(axis, "axis", "MotionError")?;
+        let length = dir.length();
+        if !(length.is_finite() && length > 0.0 && angle.is_finite()) {
+            return Err(error(
+                py,
+                "MotionError",
+                format!("axis must be a finite nonzero vector and angle finite, got {dir:?} and {angle}"),
+            ));
+        }
+        let inner =
+            tocsin::Motion::turn(a, p, dir / length * angle).map_err(|e| motion_error(py, e))?;
+        Ok(Self { inner })
+    }
+
     /// A body that stays at `pose`.
     #[staticmethod]
     fn stationary(pose: &Bound<'_, PyAny>) -> PyResult<Self> {
@@ -78,17 +108,19 @@ impl Motion {
         pose_to_numpy(py, &self.inner.pose_at(t))
     }
 
-    /// "translation", "interp" or "screw".
+    /// "translation", "interp", "screw" or "turn".
     #[getter]
     fn kind(&self) -> &'static str {
         match self.inner.kind() {
             tocsin::MotionKind::Translation => "translation",
             tocsin::MotionKind::Interp => "interp",
+            tocsin::MotionKind::Turn => "turn",
             _ => "screw",
         }
     }
 
-    /// Pickling: the kind, the end poses and (interp) the centre; rebuilt exactly.
+    /// Pickling: the kind, the end poses and the centre (interp) or the axis point and
+    /// rotation vector (turn); rebuilt exactly.
     fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         let f = py.import("tocsin._core")?.getattr("_motion_from_parts")?;
         let m = &self.inner;
@@ -96,12 +128,16 @@ impl Motion {
             "translation" if m.is_stationary() => "stationary",
             k => k,
         };
-        let center = m.axis_point().to_array();
+        let (center, angular) = match m.fixed_axis() {
+            Some(axis) if kind == "turn" => (axis.world_point, m.angular_velocity()),
+            _ => (m.axis_point(), Vec3::ZERO),
+        };
         let args = (
             kind,
             pose_to_numpy(py, &m.start())?,
             pose_to_numpy(py, &m.end())?,
-            center,
+            center.to_array(),
+            angular.to_array(),
         );
         Ok((f, args).into_pyobject(py)?.into_any())
     }
@@ -111,14 +147,17 @@ impl Motion {
     }
 }
 
-/// Unpickles a Motion (`Motion.__reduce__`).
+/// Unpickles a Motion (`Motion.__reduce__`): `center` is a turn's axis point, `angular` its
+/// rotation vector.
 #[pyfunction]
+#[pyo3(signature = (kind, start, end, center, angular=[0.0; 3]))]
 pub(crate) fn _motion_from_parts(
     py: Python<'_>,
     kind: &str,
     start: &Bound<'_, PyAny>,
     end: &Bound<'_, PyAny>,
     center: [f64; 3],
+    angular: [f64; 3],
 ) -> PyResult<Motion> {
     let (a, b) = (pose_from(start, "start")?, pose_from(end, "end")?);
     let inner = match kind {
@@ -126,6 +165,7 @@ pub(crate) fn _motion_from_parts(
         "translation" => tocsin::Motion::translation(a, b),
         "interp" => tocsin::Motion::interp(a, b, Vec3::from_array(center)),
         "screw" => tocsin::Motion::screw(a, b),
+        "turn" => tocsin::Motion::turn(a, Vec3::from_array(center), Vec3::from_array(angular)),
         other => {
             return Err(error(
                 py,

@@ -67,6 +67,70 @@ def test_pose_at_endpoints_and_kind():
     assert tocsin.Motion.screw(a, b).kind == "screw"
 
 
+def test_turns_go_round_more_than_once():
+    start = pose((1.0, 2.0, -0.5), (0.3, 1, 0.2), 0.7)
+    point, axis = np.array([0.4, -1.0, 2.0]), np.array([0.2, 0.5, 1.0])
+    m = tocsin.Motion.turn(start, point, axis, -7.5)
+    assert m.kind == "turn"
+    for t in (0.0, 0.3, 0.71, 1.0):
+        # Turned by t * angle about the line: numpy's Rodrigues about the origin, moved there.
+        r = turn(axis, -7.5 * t, [0, 0, 0])
+        expect = np.eye(4)
+        expect[:3, :3] = r[:3, :3] @ start[:3, :3]
+        expect[:3, 3] = r[:3, :3] @ (start[:3, 3] - point) + point
+        np.testing.assert_allclose(m.pose_at(t), expect, atol=1e-13)
+    for bad in ([0, 0, 0], [np.nan, 0, 1]):
+        with pytest.raises(tocsin.MotionError, match="axis"):
+            tocsin.Motion.turn(start, point, bad, 1.0)
+    with pytest.raises(tocsin.MotionError):
+        tocsin.Motion.turn(start, point, axis, np.inf)
+    with pytest.raises(tocsin.MotionError):
+        tocsin.Motion.turn(start, [np.nan, 0, 0], axis, 1.0)
+    with pytest.raises(tocsin.PoseError):
+        tocsin.Motion.turn(np.diag([1.0, 1.0, -1.0, 1.0]), point, axis, 1.0)
+
+
+def revolved(radius, length, n_around=64, n_along=4):
+    """A surface of revolution about z (open ends), its radius `radius(angle)`."""
+    a = np.linspace(0, 2 * np.pi, n_around, endpoint=False)
+    z = np.linspace(-length / 2, length / 2, n_along + 1)
+    r = np.array([radius(x) for x in a])
+    v = np.array([[r[j] * np.cos(a[j]), r[j] * np.sin(a[j]), h] for h in z for j in range(n_around)])
+    f = []
+    for i in range(n_along):
+        for j in range(n_around):
+            p, q = i * n_around + j, i * n_around + (j + 1) % n_around
+            f += [[p, q, q + n_around], [p, q + n_around, p + n_around]]
+    return tocsin.Mesh(v, np.array(f))
+
+
+@pytest.mark.parametrize("keyed", [False, True])
+def test_a_wheel_turning_two_and_a_half_times_on_its_axle(keyed):
+    """A 64-sided hub turning 2.5 revolutions about an axle line off the origin inside a bore
+    whose faces clear its corners by 0.5% (free), and with a key that meets a stop in a groove
+    of the bore (a contact), against dense sampling with collide."""
+    bore_r = 1.005 / np.cos(np.pi / 64)
+    hub = revolved(lambda a: 1.1 if keyed and a < 0.3 else 1.0, 2.0)
+    bore = revolved(lambda a: bore_r if not keyed or np.pi <= a < np.pi + 0.3 else 1.2, 3.0)
+    where = pose((3.0, -1.0, 0.5), (1, 0.2, 0), 0.4)
+    axis = where[:3, 2]
+    wheel = tocsin.Motion.turn(where, where[:3, 3], axis, 5 * np.pi)
+    still = tocsin.Motion.stationary(where)
+    r = tocsin.time_of_contact(hub, wheel, bore, still, tolerance=1e-3)
+    hit = first_sampled_collision(hub, wheel, bore, still, n=4000)
+    assert (hit is not None) == keyed
+    assert (r is not None) == keyed
+    if keyed:
+        # Within a sample of the first sampled collision, and never after it. The key meets
+        # the stop after turning pi - 0.3 rad of the 5 pi, less a column (0.1 rad) where the
+        # faces slope between the key's radius and the hub's.
+        assert hit - 1e-3 <= r.time <= hit
+        assert abs(hit - (np.pi - 0.3) / (5 * np.pi)) < 0.1 / (5 * np.pi)
+        d = tocsin.distance(hub, wheel.pose_at(r.time), bore, where).distance
+        assert d <= 1e-3
+    assert tocsin.motion_is_free(hub, wheel, bore, still) == (not keyed)
+
+
 def test_motion_and_option_errors():
     a = pose()
     with pytest.raises(tocsin.MotionError, match="same rotation"):

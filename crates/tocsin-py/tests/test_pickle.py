@@ -32,6 +32,7 @@ def test_meshes_and_motions_round_trip_exactly():
         tocsin.Motion.interp(start, start),
         tocsin.Motion.translation(start, turn([0, 0, 1], 0.3, [14, -0.5, 0])),
         tocsin.Motion.stationary(start),
+        tocsin.Motion.turn(start, [0.5, -3.0, 0.2], [0.1, 0.3, 1.0], 5.5),
     ]
     still = tocsin.Motion.stationary(np.eye(4))
     hits = 0

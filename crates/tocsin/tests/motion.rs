@@ -36,6 +36,8 @@ fn motions(rng: &mut impl Rng) -> Vec<Motion> {
         Motion::interp(a, b, c).unwrap(),
         Motion::interp(a, b, Vec3::ZERO).unwrap(),
         Motion::screw(a, b).unwrap(),
+        // A turn of up to 1.5 revolutions about a line through `3 c`.
+        Motion::turn(a, c * 3.0, random_unit(rng) * rng.random_range(-9.5..9.5)).unwrap(),
     ]
 }
 
@@ -173,6 +175,48 @@ fn bad_motions_are_errors() {
     assert!(Motion::interp(a, bad, Vec3::ZERO).is_err());
     assert!(Motion::screw(a, Pose::from_translation(Vec3::new(f64::NAN, 0.0, 0.0))).is_err());
     assert!(Motion::interp(a, b, Vec3::new(f64::INFINITY, 0.0, 0.0)).is_err());
+    let nan = Vec3::new(f64::NAN, 0.0, 0.0);
+    assert!(matches!(
+        Motion::turn(a, nan, Vec3::Z),
+        Err(MotionError::NonFinite)
+    ));
+    assert!(matches!(
+        Motion::turn(a, Vec3::ZERO, Vec3::Z * f64::INFINITY),
+        Err(MotionError::NonFinite)
+    ));
+    assert!(matches!(
+        Motion::turn(bad, Vec3::ZERO, Vec3::Z),
+        Err(MotionError::Pose(_))
+    ));
+}
+
+/// A turn goes round as many times as its angle says: its pose at `t` is the start turned by
+/// `t angular` about the line (Rodrigues' rotation about the origin, moved to the line), for
+/// angles up to four revolutions; its axis is fixed and its kind is `Turn`.
+#[test]
+fn turns_go_round_by_their_whole_angle() {
+    let mut rng = rng(44);
+    for _ in 0..200 {
+        let start = random_pose(&mut rng, 3.0);
+        let point = random_unit(&mut rng) * rng.random_range(0.0..4.0);
+        let dir = random_unit(&mut rng);
+        let angle = rng.random_range(-25.0..25.0);
+        let m = Motion::turn(start, point, dir * angle).unwrap();
+        assert_eq!(m.kind(), tocsin::MotionKind::Turn);
+        let axis = m.fixed_axis().expect("a fixed axis");
+        assert_eq!(axis.along, 0.0);
+        for k in 0..=8 {
+            let t = f64::from(k) / 8.0;
+            let turn = Pose::from_axis_angle(dir, angle * t, Vec3::ZERO);
+            let expect = Pose {
+                rotation: turn.rotation * start.rotation,
+                translation: turn.rotation * (start.translation - point) + point,
+            };
+            assert!(close(&m.pose_at(t), &expect, 1e-11), "angle {angle}, t {t}");
+        }
+    }
+    let still = Motion::turn(Pose::IDENTITY, Vec3::X, Vec3::ZERO).unwrap();
+    assert!(still.is_stationary());
 }
 
 #[test]

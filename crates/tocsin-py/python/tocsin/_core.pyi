@@ -176,13 +176,20 @@ class Motion:
         """The SE(3) geodesic T(t) = exp(t log(T1 T0^-1)) T0: rotation about a fixed world axis
         with translation along it. A relative rotation below 1e-15 rad is a translation."""
     @staticmethod
+    def turn(start: ArrayLike, point: ArrayLike, axis: ArrayLike, angle: float) -> Motion:
+        """A turn by angle radians (any size; its sign gives the sense about axis) about the
+        world line through point along axis, from start: pose_at(t) is start turned by
+        t * angle about that line. Unlike screw, whose angle stops at pi, it may go round
+        several times (a wheel on its axle). MotionError for a zero or non-finite axis, a
+        non-finite point or angle."""
+    @staticmethod
     def stationary(pose: ArrayLike) -> Motion:
         """A body that does not move."""
     def pose_at(self, t: float) -> npt.NDArray[np.float64]:
         """The pose at time t (a finite real; the motion is defined on [0, 1]) as a 4x4 array,
         within rounding of start at t = 0 and of end at t = 1 for every angle in [0, pi]."""
     @property
-    def kind(self) -> Literal["translation", "interp", "screw"]:
+    def kind(self) -> Literal["translation", "interp", "screw", "turn"]:
         """Which interpolation the motion follows."""
 
 @final
@@ -684,7 +691,9 @@ class WorldContact:
     def time(self) -> float:
         """The contact's time in [0, 1]."""
 
-def _motion_from_parts(kind: str, start: ArrayLike, end: ArrayLike, center: Sequence[float]) -> Motion:
+def _motion_from_parts(
+    kind: str, start: ArrayLike, end: ArrayLike, center: Sequence[float], angular: Sequence[float] = ...
+) -> Motion:
     """Unpickles a Motion."""
 
 def _robot_from_recipe(recipe: Sequence[tuple], meshes: Optional[dict] = None) -> Robot:

@@ -84,6 +84,8 @@ pub enum MotionKind {
     Interp,
     /// The SE(3) geodesic: rotation about a fixed axis with translation along it.
     Screw,
+    /// Rotation about a fixed axis by any angle ([`Motion::turn`]).
+    Turn,
 }
 
 /// A rigid motion from `start` (t = 0) to `end` (t = 1), world frame.
@@ -208,35 +210,42 @@ impl Motion {
         Ok(m)
     }
 
-    /// A turn by `angle` radians (any size, a sign for the sense) about the world line through
-    /// `point` along the unit `dir`, starting at `start`: the motion of a robot link when only
-    /// one revolute joint above it moves, which may turn by more than `pi` (a screw between two
-    /// poses cannot). Its kind is [`MotionKind::Screw`], with twist `(w, point x w)`,
-    /// `w = angle dir`, so that the velocity field is `w x (X - point)`. The inputs are the
-    /// caller's to check (finite, `dir` a unit vector).
-    pub(crate) fn turn(start: Pose, point: Vec3, dir: Vec3, angle: f64) -> Self {
-        if angle == 0.0 {
+    /// A turn about the world line through `point` by the rotation vector `angular` (the
+    /// axis direction times the angle in radians, of any size: a wheel may turn several
+    /// revolutions), from `start`: the pose at `t` is `start` turned by `t angular` about that
+    /// line, and the velocity field is `angular x (X - point)`. A screw between two poses
+    /// stops at pi; this is the motion of a robot link when one revolute joint above it
+    /// moves. Its kind is [`MotionKind::Turn`]. `point` is used as given: one near the body
+    /// keeps its poses precise.
+    ///
+    /// # Errors
+    /// [`MotionError::Pose`] for a start that is not a rigid transform,
+    /// [`MotionError::NonFinite`] for a point or rotation vector with a NaN or infinite
+    /// coordinate.
+    pub fn turn(start: Pose, point: Vec3, angular: Vec3) -> Result<Self, MotionError> {
+        check_poses(&start, &start)?;
+        if !(point.is_finite() && angular.is_finite()) {
+            return Err(MotionError::NonFinite);
+        }
+        Ok(Self::turn_unchecked(start, point, angular))
+    }
+
+    /// [`Motion::turn`] for inputs the caller knows are valid (a robot's joint frames).
+    pub(crate) fn turn_unchecked(start: Pose, point: Vec3, angular: Vec3) -> Self {
+        if angular == Vec3::ZERO {
             return Self::stationary(start);
         }
-        let (w, angular) = if angle > 0.0 {
-            (dir, dir * angle)
-        } else {
-            (-dir, dir * angle)
-        };
-        let twist = point.cross(angular);
-        // The foot of the axis nearest the origin, as `screw` takes it (`w x twist / theta`).
-        let q = point - w * w.dot(point);
-        let axis_point = start.inverse().transform_point(q);
+        let axis_point = start.inverse().transform_point(point);
         let mut m = Self::build(
-            MotionKind::Screw,
+            MotionKind::Turn,
             start,
             start,
             Vec3::ZERO,
             angular,
             axis_point,
-            q,
+            point,
         );
-        m.twist = twist;
+        m.twist = point.cross(angular);
         m.end = m.screw_pose(1.0);
         m
     }
@@ -313,7 +322,7 @@ impl Motion {
                         - rotation::turn_displacement(turn, lever),
                 }
             }
-            MotionKind::Screw => self.screw_pose(t),
+            MotionKind::Screw | MotionKind::Turn => self.screw_pose(t),
         }
     }
 

@@ -239,7 +239,11 @@ impl<'f> ChainPath<'f> {
         }
         let point = parent.transform_point(step.frame.origin.translation);
         let dir = (parent.rotation * step.frame.o_axis).normalize();
-        Some(Motion::turn(self.pose_at(0.0), point, dir, step.dq))
+        Some(Motion::turn_unchecked(
+            self.pose_at(0.0),
+            point,
+            dir * step.dq,
+        ))
     }
 
     /// The chain's last moving joint, when it turns (revolute) and other joints before it
@@ -277,7 +281,7 @@ impl<'f> ChainPath<'f> {
             pose = pose.mul(&s.frame.at(s.q0));
         }
         let dir = step.frame.o_axis.normalize();
-        Motion::turn(pose, step.frame.origin.translation, dir, step.dq)
+        Motion::turn_unchecked(pose, step.frame.origin.translation, dir * step.dq)
     }
 
     /// The body's world pose at time `t`, and the link's velocity field there with the window
