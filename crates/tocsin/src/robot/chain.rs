@@ -369,6 +369,20 @@ mod tests {
     use rand::{Rng, SeedableRng};
     use rand_chacha::ChaCha8Rng;
 
+    /// A joint at a random frame (turned up to 3 rad, up to 0.6 from its parent's origin) with
+    /// a random axis, prismatic one time in four.
+    fn random_frame(rng: &mut ChaCha8Rng) -> JointFrame {
+        JointFrame::new(
+            Pose::from_axis_angle(
+                unit(rng),
+                rng.random_range(-3.0..3.0),
+                unit(rng) * rng.random_range(0.0..0.6),
+            ),
+            unit(rng),
+            rng.random_bool(0.25),
+        )
+    }
+
     /// The chain bound against the true speed (central differences of the pose, an independent
     /// path through the code) on random chains, windows, balls, swept rectangles and directions.
     #[test]
@@ -380,15 +394,7 @@ mod tests {
             let m = 1 + case % 8;
             let joints: Vec<(JointFrame, f64, f64)> = (0..m)
                 .map(|_| {
-                    let frame = JointFrame::new(
-                        Pose::from_axis_angle(
-                            unit(&mut rng),
-                            rng.random_range(-3.0..3.0),
-                            unit(&mut rng) * rng.random_range(0.0..0.6),
-                        ),
-                        unit(&mut rng),
-                        rng.random_bool(0.25),
-                    );
+                    let frame = random_frame(&mut rng);
                     (
                         frame,
                         rng.random_range(-1.5..1.5),
@@ -491,19 +497,7 @@ mod tests {
         let (mut turns, mut still) = (0, 0);
         for case in 0..300 {
             let m = 1 + case % 6;
-            let frames: Vec<JointFrame> = (0..m)
-                .map(|_| {
-                    JointFrame::new(
-                        Pose::from_axis_angle(
-                            unit(&mut rng),
-                            rng.random_range(-3.0..3.0),
-                            unit(&mut rng) * rng.random_range(0.0..0.6),
-                        ),
-                        unit(&mut rng),
-                        rng.random_bool(0.25),
-                    )
-                })
-                .collect();
+            let frames: Vec<JointFrame> = (0..m).map(|_| random_frame(&mut rng)).collect();
             let moving = (case % 5 != 0).then(|| rng.random_range(0..m));
             let steps: Vec<ChainStep> = frames
                 .iter()

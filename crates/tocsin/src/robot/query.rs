@@ -636,7 +636,6 @@ impl<'r> Segment<'r> {
             // check may certify the span, or its first part (`query/frozen.rs`).
             let end = end.min(limit);
             let start = self.frozen_until(pair, start, end);
-
             if start >= end {
                 continue;
             }
