@@ -233,10 +233,7 @@ impl<'f> ChainPath<'f> {
             return None;
         }
         // The pose of joint j's parent body, which does not move.
-        let mut parent = self.base;
-        for s in &self.steps[..j] {
-            parent = parent.mul(&s.frame.at(s.q0));
-        }
+        let parent = self.parent_pose(j, 0.0);
         let point = parent.transform_point(step.frame.origin.translation);
         let dir = (parent.rotation * step.frame.o_axis).normalize();
         Some(Motion::turn_unchecked(

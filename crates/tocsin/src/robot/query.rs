@@ -641,25 +641,12 @@ impl<'r> Segment<'r> {
             }
             let (relative, _) = self.pair_paths(pair);
             let (m1, p1, m2, p2) = self.meshes(pair, relative.as_ref());
-            let scale = m1.bounding_radius()
-                + m2.bounding_radius()
-                + p1.pose_at(start).translation.length()
-                + p2.pose_at(start).translation.length();
-            let span = Span {
-                start,
-                end,
-                delta: self.delta,
-                resolution: NORMAL_RESOLUTION * scale,
-                contact: Span::contact(self.delta, scale),
-                max_iterations: self.max_iterations,
-                first_window: FIRST_WINDOW,
-                slack: (FAR_SLACK, NEAR_SLACK),
-                // The exact collision test at the span's start only tells a start in contact
-                // apart from a contact found by the first step search (which finds touching
-                // meshes too): a yes/no answer does not need it, and a later span's status
-                // becomes `Converged` either way.
-                start_free: first_only || start > 0.0,
-            };
+            // The exact collision test at the span's start only tells a start in contact
+            // apart from a contact found by the first step search (which finds touching
+            // meshes too): a yes/no answer does not need it, and a later span's status
+            // becomes `Converged` either way.
+            let start_free = first_only || start > 0.0;
+            let span = self.span((m1, p1, m2, p2), (start, end), self.delta, start_free);
             let key = (pair.a, pair.b, pair.obstacle);
             let mut cache = warm
                 .as_ref()
@@ -726,6 +713,33 @@ impl<'r> Segment<'r> {
                 status: c.status,
             }
         }))
+    }
+
+    /// A pair's advancement over `[start, end]` with tolerance `delta`: the robot's first
+    /// window, slacks and iteration cap, the distances' resolution from the scale of the two
+    /// meshes where their paths start.
+    fn span(
+        &self,
+        (m1, p1, m2, p2): (&TriMesh, Path<'_>, &TriMesh, Path<'_>),
+        (start, end): (f64, f64),
+        delta: f64,
+        start_free: bool,
+    ) -> Span {
+        let scale = m1.bounding_radius()
+            + m2.bounding_radius()
+            + p1.pose_at(start).translation.length()
+            + p2.pose_at(start).translation.length();
+        Span {
+            start,
+            end,
+            delta,
+            resolution: NORMAL_RESOLUTION * scale,
+            contact: Span::contact(delta, scale),
+            max_iterations: self.max_iterations,
+            first_window: FIRST_WINDOW,
+            slack: (FAR_SLACK, NEAR_SLACK),
+            start_free,
+        }
     }
 
     /// The report of a contact found by a yes/no answer at `time`, by a probe or after

@@ -32,9 +32,10 @@
 //! found by the chain's advancement, so the segment query's answers keep their meaning. An
 //! ordinary planner's edge moves every joint alike and never takes them.
 
-use super::{Pair, Segment, FAR_SLACK, FIRST_WINDOW, NEAR_SLACK};
+use super::{Pair, Segment};
+use crate::math::Pose;
 use crate::motion::Motion;
-use crate::query::contact_time::{advance_paths, ContactCache, Path, Span, NORMAL_RESOLUTION};
+use crate::query::contact_time::{advance_paths, ContactCache, Path, Span};
 use crate::query::distance::{distance, DistanceOptions};
 use crate::robot::chain::ChainPath;
 
@@ -90,7 +91,7 @@ impl Segment<'_> {
             turn: path.turn_in_parent(joint),
             turning: step.dq.abs() * step.r_chain,
         };
-        let Some(speed) = self.parent_speed(pair, &frozen, 0.5 * (start + end)) else {
+        let Some((speed, _)) = self.parent_speed(pair, &frozen, 0.5 * (start + end)) else {
             return start;
         };
         let mut t = start;
@@ -149,49 +150,42 @@ impl Segment<'_> {
     }
 
     /// How fast the obstacle's points move in the frame of the turning joint's parent body
-    /// about time `mid` (the parent's points within the obstacle's reach), with the obstacle's
-    /// centre there; `None` where the turn does not dominate ([`DOMINANCE`]).
-    fn parent_speed(&self, pair: Pair, frozen: &Frozen, mid: f64) -> Option<f64> {
+    /// about time `mid` (the parent's points within the obstacle's reach), and the map from
+    /// the world into that frame at `mid`; `None` where the turn does not dominate
+    /// ([`DOMINANCE`]).
+    fn parent_speed(&self, pair: Pair, frozen: &Frozen, mid: f64) -> Option<(f64, Pose)> {
         let obstacle = &self.scene.obstacles[pair.b];
         let to_parent = frozen.path.parent_pose(frozen.joint, mid).inverse();
         let root = obstacle.mesh.bvh().root();
         let centre = to_parent.transform_point(obstacle.pose.transform_point(root.center));
         let reach = centre.length() + obstacle.mesh.bounding_radius();
         let speed = frozen.path.parent_path(frozen.joint, reach).max_speed();
-        (speed * DOMINANCE <= frozen.turning).then_some(speed)
+        (speed * DOMINANCE <= frozen.turning).then_some((speed, to_parent))
     }
 
     /// The frozen check on `[a, b]`: `Some(b)` when it certifies the piece, `Some(t_c)` when
     /// it found a frozen contact at `t_c` (certifying `[a, t_c)`), `None` when it could not
     /// tell (the turn no longer dominates, or the iteration cap).
     fn frozen_piece(&self, pair: Pair, frozen: &Frozen, (a, b): (f64, f64)) -> Option<f64> {
-        let mid = 0.5 * (a + b);
         let obstacle = &self.scene.obstacles[pair.b];
-        let speed = self.parent_speed(pair, frozen, mid)?;
-        let to_parent = frozen.path.parent_pose(frozen.joint, mid).inverse();
+        let (speed, to_parent) = self.parent_speed(pair, frozen, 0.5 * (a + b))?;
         let eps = speed * (b - a) / 2.0;
         let still = Motion::stationary(to_parent.mul(&obstacle.pose));
         let link = &self.robot.objects[pair.a].mesh;
-        let delta = self.delta + 2.0 * eps;
-        let scale = link.bounding_radius()
-            + obstacle.mesh.bounding_radius()
-            + frozen.turn.pose_at(a).translation.length()
-            + still.start().translation.length();
-        let span = Span {
-            start: a,
-            end: b,
-            delta,
-            resolution: NORMAL_RESOLUTION * scale,
-            contact: Span::contact(delta, scale),
-            max_iterations: self.max_iterations.min(FROZEN_ITERATIONS),
-            first_window: FIRST_WINDOW,
-            slack: (FAR_SLACK, NEAR_SLACK),
-            start_free: true,
-        };
-        let mut cache = ContactCache::default();
         let (turn, fixed) = (Path::Rigid(&frozen.turn), Path::Rigid(&still));
-        let r = advance_paths(link, turn, &obstacle.mesh, fixed, &span, &mut cache);
-        match r {
+        let paths = (&**link, turn, &*obstacle.mesh, fixed);
+        let span = Span {
+            max_iterations: self.max_iterations.min(FROZEN_ITERATIONS),
+            ..self.span(paths, (a, b), self.delta + 2.0 * eps, true)
+        };
+        match advance_paths(
+            link,
+            turn,
+            &obstacle.mesh,
+            fixed,
+            &span,
+            &mut ContactCache::default(),
+        ) {
             Ok(None) => Some(b),
             Ok(Some(ends)) => Some(ends.time),
             Err(_) => None,
