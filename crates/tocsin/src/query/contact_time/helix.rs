@@ -113,18 +113,15 @@ impl Ranges {
     }
 }
 
-/// A vertex as [`Helix::image`] needs it ([`Helix::vertex`]).
+/// A vertex as [`Helix::image`] needs it ([`Helix::vertex`]); the default is a placeholder for
+/// a vertex no image needs.
+#[derive(Clone, Copy, Default)]
 pub(crate) struct Corner {
     perp: Vec3,
+    /// `|perp|`, its distance from the axis.
+    rho: f64,
     z: f64,
     phi: f64,
-}
-
-impl Corner {
-    /// The axial coordinate (from the axis point, at `t = 0` for the turning body).
-    pub(crate) fn z(&self) -> f64 {
-        self.z
-    }
 }
 
 /// A set's linear frame about the radial unit at its centre `c` (relative to the axis point).
@@ -309,14 +306,19 @@ impl Helix {
     /// A vertex's part across the axis, its axial coordinate and its angle about the axis (world
     /// point `x`): what [`Self::image`] needs of each corner, worked out once per vertex.
     pub(crate) fn vertex(&self, x: Vec3) -> Corner {
-        let rel = x - self.point;
-        let z = rel.dot(self.dir);
-        let perp = rel - self.dir * z;
+        let z = self.axial(x);
+        let perp = x - self.point - self.dir * z;
         Corner {
             perp,
+            rho: perp.length(),
             z,
             phi: perp.dot(self.e2).atan2(perp.dot(self.e1)),
         }
+    }
+
+    /// The world point `x`'s axial coordinate (from the axis point), as [`Self::vertex`] has it.
+    pub(crate) fn axial(&self, x: Vec3) -> f64 {
+        (x - self.point).dot(self.dir)
     }
 
     /// The triangle's image in the plane of `(rho, s zeta)`, from its corners
@@ -339,13 +341,22 @@ impl Helix {
         let tau = std::f64::consts::TAU;
         for (o, c) in out.iter_mut().zip(corners) {
             let (a, b) = (c.perp.dot(u), c.perp.dot(t));
-            let rho = c.perp.length();
             a_lo = a_lo.min(a);
-            eps = eps.max(rho - a);
+            eps = eps.max(c.rho - a);
             b_max = b_max.max(b.abs());
             dev = dev.max((k_c - a).abs());
-            let phi = c.phi + ((corners[0].phi - c.phi) / tau).round() * tau;
-            *o = [rho, c.z - self.k * phi];
+            // The angle on the first corner's branch: both angles are in `[-pi, pi]`, so the
+            // whole turns between them are -1, 0 or 1 (never half a turn apart, the triangle
+            // being a pitch from the axis).
+            let apart = corners[0].phi - c.phi;
+            let phi = if apart >= std::f64::consts::PI {
+                c.phi + tau
+            } else if apart <= -std::f64::consts::PI {
+                c.phi - tau
+            } else {
+                c.phi
+            };
+            *o = [c.rho, c.z - self.k * phi];
         }
         if a_lo.is_nan() || a_lo < self.pitch {
             return None;
@@ -357,7 +368,8 @@ impl Helix {
         for o in &mut out {
             o[1] = self.s * (o[1] + shift);
         }
-        let margin = eps.hypot(self.s * 2.0 * self.k.abs() * angle);
+        let across = self.s * 2.0 * self.k.abs() * angle;
+        let margin = (eps * eps + across * across).sqrt();
         margin.is_finite().then_some((out, margin))
     }
 
@@ -487,7 +499,7 @@ impl Helix {
     pub(crate) fn between(&self, a: Vec3, b: Vec3) -> Option<Direction> {
         let image = |x: Vec3| {
             let c = self.vertex(x);
-            (c.perp.length(), c.z - self.k * c.phi)
+            (c.rho, c.z - self.k * c.phi)
         };
         let ((ra, za), (rb, zb)) = (image(a), image(b));
         let mut dz = zb - za;

@@ -101,16 +101,23 @@ impl Node {
         let (cxx, cxy, cyy) = (sxx / n - mx * mx, sxy / n - mx * my, syy / n - my * my);
         let angle = 0.5 * (2.0 * cxy).atan2(cxx - cyy);
         let (e, f) = ([angle.cos(), angle.sin()], [-angle.sin(), angle.cos()]);
+        // One pass over the corners (comparisons rather than `min`: the images are finite).
         let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
         let mut margin = 0.0f64;
         for im in images {
-            margin = margin.max(im.margin);
-        }
-        for c in images.iter().flat_map(|im| im.corners.iter()) {
-            let (dx, dy) = (c[0] - origin[0], c[1] - origin[1]);
-            let (p, q) = (dx * e[0] + dy * e[1], dx * f[0] + dy * f[1]);
-            lo = [lo[0].min(p), lo[1].min(q)];
-            hi = [hi[0].max(p), hi[1].max(q)];
+            margin = if im.margin > margin {
+                im.margin
+            } else {
+                margin
+            };
+            for c in &im.corners {
+                let (dx, dy) = (c[0] - origin[0], c[1] - origin[1]);
+                let (p, q) = (dx * e[0] + dy * e[1], dx * f[0] + dy * f[1]);
+                lo[0] = if p < lo[0] { p } else { lo[0] };
+                lo[1] = if q < lo[1] { q } else { lo[1] };
+                hi[0] = if p > hi[0] { p } else { hi[0] };
+                hi[1] = if q > hi[1] { q } else { hi[1] };
+            }
         }
         let mid = [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])];
         Node {
@@ -141,8 +148,9 @@ impl Node {
     }
 }
 
-/// A hierarchy of boxes over images, split by the median along a box's longer side when a
-/// traversal first needs the node's children: the certificate stops high in the trees, and
+/// A hierarchy of boxes over images, split across a box's longer side (at its middle, or at
+/// the median where the middle leaves one side under an eighth) when a traversal first needs
+/// the node's children: the certificate stops high in the trees, and
 /// building them whole took 50 ms of 66 for a bolt and its nut.
 struct Tree {
     images: Vec<Image>,
@@ -186,8 +194,21 @@ impl Tree {
         };
         let key = |im: &Image| im.centre[0] * d[0] + im.centre[1] * d[1];
         let images = &mut self.images[first..first + count];
-        let mid = count / 2;
-        images.select_nth_unstable_by(mid, |a, b| key(a).total_cmp(&key(b)));
+        // Split at the box's middle across that side: one pass, and images spread along a
+        // profile fall about evenly. Where one side would get under an eighth (images bunched
+        // at one end, or none), at the median instead.
+        let cut = key(&Image::new([node.centre; 3], 0.0, 0));
+        let mut mid = 0;
+        for i in 0..count {
+            if key(&images[i]) < cut {
+                images.swap(i, mid);
+                mid += 1;
+            }
+        }
+        if mid.min(count - mid) < count.div_ceil(8) {
+            mid = count / 2;
+            images.select_nth_unstable_by(mid, |a, b| key(a).total_cmp(&key(b)));
+        }
         let (mut a, mut b) = (Node::over(&images[..mid]), Node::over(&images[mid..]));
         a.first = first as u32;
         b.first = (first + mid) as u32;
@@ -229,62 +250,74 @@ impl Quotient {
     /// The resolved triangles of the turning mesh `turning` and the still one `still`, at the
     /// tolerance `delta`.
     pub(crate) fn build(helix: &Helix, turning: &TriMesh, still: &TriMesh, delta: f64) -> Self {
-        // Each body's images in its hierarchy's leaf order, `None` for triangles too near the
-        // axis; the corners' invariants once per vertex.
-        let corners = |mesh: &TriMesh, pose: &Pose| -> Vec<Corner> {
+        // Every vertex's axial coordinate (the angles, which cost an `atan2`, only where an
+        // image needs them).
+        let axial = |mesh: &TriMesh, pose: &Pose| -> Vec<f64> {
             mesh.vertices()
                 .iter()
-                .map(|&v| helix.vertex(pose.transform_point(v)))
+                .map(|&v| helix.axial(pose.transform_point(v)))
                 .collect()
         };
-        let (corners_t, corners_s) = (
-            corners(turning, helix.start()),
-            corners(still, helix.still_pose()),
+        let (z_t, z_s) = (
+            axial(turning, helix.start()),
+            axial(still, helix.still_pose()),
         );
         // Along the axis: where the turning body's triangle, over the whole slide, and the
         // still body (or the other way round) are farther apart than the tolerance, no pair
         // of theirs ever comes within it, and the triangle needs no image (most of a bolt
         // longer than its nut).
-        let z_range = |cs: &[Corner]| cs.iter().fold(Range::EMPTY, |r, c| r.with(c.z()));
+        let z_range = |zs: &[f64]| zs.iter().fold(Range::EMPTY, |r, &z| r.with(z));
         let travel = helix.travel();
         let slid = |r: Range| Range {
             lo: r.lo + travel.min(0.0),
             hi: r.hi + travel.max(0.0),
         };
-        let (reach_t, reach_s) = (slid(z_range(&corners_t)), z_range(&corners_s));
-        // Each body's triangles in its hierarchy's leaf order: whether it is open (too near
-        // the axis for an image), and its image where it needs one (none where it is resolved
-        // along the axis).
-        type Imaged = (bool, Option<([[f64; 2]; 3], f64)>);
-        let images = |mesh: &TriMesh, cs: &[Corner], moves: bool, other: Range| -> Vec<Imaged> {
+        let (reach_t, reach_s) = (slid(z_range(&z_t)), z_range(&z_s));
+        // Each body's triangles in its hierarchy's leaf order: whether each is open (too near
+        // the axis for an image), and the images of those within the other body's reach along
+        // the axis.
+        let imaged = |mesh: &TriMesh, pose: &Pose, zs: &[f64], moves: bool, other: Range| {
             let bvh = mesh.bvh();
-            (0..bvh.leaf_triangles().len())
+            let leaf = |i: usize| mesh.triangles()[bvh.triangle_index(i as u32)];
+            let count = bvh.leaf_triangles().len();
+            let mut needed = vec![false; zs.len()];
+            let near: Vec<bool> = (0..count)
                 .map(|i| {
-                    let tri =
-                        mesh.triangles()[bvh.triangle_index(i as u32)].map(|v| &cs[v as usize]);
-                    let z = tri.iter().fold(Range::EMPTY, |r, c| r.with(c.z()));
+                    let tri = leaf(i);
+                    let z = tri
+                        .iter()
+                        .fold(Range::EMPTY, |r, &v| r.with(zs[v as usize]));
                     let z = if moves { slid(z) } else { z };
-                    if z.gap(other) > delta {
-                        return (false, None);
+                    let near = z.gap(other) <= delta;
+                    if near {
+                        for v in tri {
+                            needed[v as usize] = true;
+                        }
                     }
-                    let image = helix.image(tri);
-                    (image.is_none(), image)
+                    near
                 })
-                .collect()
+                .collect();
+            let mut corners = vec![Corner::default(); zs.len()];
+            for ((c, &v), _) in corners
+                .iter_mut()
+                .zip(mesh.vertices())
+                .zip(&needed)
+                .filter(|(_, &n)| n)
+            {
+                *c = helix.vertex(pose.transform_point(v));
+            }
+            let mut open = vec![false; count];
+            let mut images = Vec::with_capacity(near.iter().filter(|&&n| n).count());
+            for i in (0..count).filter(|&i| near[i]) {
+                match helix.image(leaf(i).map(|v| &corners[v as usize])) {
+                    Some((c, margin)) => images.push(Image::new(c, margin, i as u32)),
+                    None => open[i] = true,
+                }
+            }
+            (open, images)
         };
-        let (all_t, all_s) = (
-            images(turning, &corners_t, true, reach_s),
-            images(still, &corners_s, false, reach_t),
-        );
-        let mut open_t: Vec<bool> = all_t.iter().map(|im| im.0).collect();
-        let mut open_s: Vec<bool> = all_s.iter().map(|im| im.0).collect();
-        let images_t: Vec<Image> = all_t
-            .iter()
-            .enumerate()
-            .filter_map(|(i, im)| {
-                im.1.map(|(corners, margin)| Image::new(corners, margin, i as u32))
-            })
-            .collect();
+        let (mut open_t, images_t) = imaged(turning, helix.start(), &z_t, true, reach_s);
+        let (mut open_s, still_images) = imaged(still, helix.still_pose(), &z_s, false, reach_t);
         // The still images are repeated on every branch of the phase (whole periods up or
         // down) that comes within the tolerance and the margins of a turning image: on any
         // other, every pair is farther apart than that in the phase alone.
@@ -300,26 +333,22 @@ impl Quotient {
             .iter()
             .map(span)
             .fold(Range::EMPTY, |r, s| r.with(s.lo).with(s.hi));
-        let mut images_s = Vec::with_capacity(all_s.len() + all_s.len() / 4);
-        for (j, im) in all_s.iter().enumerate() {
-            let Some((corners, margin)) = im.1 else {
-                continue;
-            };
-            let image = Image::new(corners, margin, j as u32);
+        let mut images_s = Vec::with_capacity(still_images.len() + still_images.len() / 4);
+        for image in still_images {
             let own = span(&image);
             let first = ((reach.lo - delta - own.hi) / period).ceil();
             let last = ((reach.hi + delta - own.lo) / period).floor();
             if last - first > 4.0 {
                 // Spread over several periods (a triangle across many turns of the thread):
                 // left to the per-pair bounds.
-                open_s[j] = true;
+                open_s[image.leaf as usize] = true;
                 continue;
             }
             let mut m = first;
             while m <= last {
                 let shift = m * period;
                 images_s.push(Image {
-                    corners: corners.map(|c| [c[0], c[1] + shift]),
+                    corners: image.corners.map(|c| [c[0], c[1] + shift]),
                     centre: [image.centre[0], image.centre[1] + shift],
                     ..image
                 });
