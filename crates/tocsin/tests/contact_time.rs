@@ -1032,6 +1032,42 @@ fn turning_in_close_fits_against_sampling() {
         screw(170.0 / 360.0),
         nut(0.06),
     ));
+    // Starting in contact, in fits whose certificates are decided at the start: a ball in a
+    // socket it pierces (tessellated otherwise: a scaled copy would nest), a bolt in a nut
+    // whose thread is deeper (a narrower nut would nest too). The collision test at the start waits
+    // for the first iteration, which must end within the tolerance, not step.
+    let started = [
+        (
+            "ball in a 0.998 socket".to_string(),
+            ball.clone(),
+            Motion::screw(Pose::IDENTITY, turn(Vec3::Z, 90.0, Vec3::ZERO)).unwrap(),
+            mesh::sphere(0.998, 16, 32).unwrap(),
+        ),
+        (
+            "bolt screwed into a nut of deeper thread".into(),
+            bolt.clone(),
+            screw(0.5 * 170.0 / 360.0),
+            mesh::revolved(
+                |a: f64, z: f64| 1.0 + 0.08 * (std::f64::consts::TAU * z / 0.5 - a).sin(),
+                0.5,
+                36,
+                12,
+            )
+            .unwrap(),
+        ),
+    ];
+    for (label, turning, mo, fixed) in &started {
+        assert!(
+            collide(turning, &Pose::IDENTITY, fixed, &Pose::IDENTITY),
+            "{label}"
+        );
+        for (m1, mo1, m2, mo2) in [(turning, mo, fixed, &still), (fixed, &still, turning, mo)] {
+            assert!(check(m1, mo1, m2, mo2, None, label), "{label}: no contact");
+            let c = time_of_contact(m1, mo1, m2, mo2, &ContactOptions::default());
+            let status = c.unwrap().map(|c| c.status);
+            assert_eq!(status, Some(ContactStatus::StartedInContact), "{label}");
+        }
+    }
     let mut contacts = 0;
     for (label, turning, mo, fixed) in &cases {
         contacts += check(turning, mo, fixed, &still, None, label) as usize;

@@ -448,8 +448,9 @@ pub(crate) struct Span {
     /// The step slack far from contact and near it (module docs).
     pub slack: (f64, f64),
     /// The caller knows the meshes are apart at `start` (an exact `collide` said so, or an
-    /// advancement certified that time): the `collide` that would find a start in contact is
-    /// skipped. Were they touching after all, the first step search would find a pair within
+    /// advancement certified that time): the `collide` that would find a start in contact
+    /// (asked otherwise only where the first iteration ends with a pair within the tolerance)
+    /// is skipped. Were they touching after all, the first step search would find a pair within
     /// the tolerance and end at `start` just the same, with [`ContactStatus::Converged`].
     pub start_free: bool,
 }
@@ -519,19 +520,22 @@ fn advance_core<const PROBING: bool>(
 ) -> Result<probe::Probed, ContactError> {
     use probe::Probed;
     let (delta, resolution) = (span.delta, span.resolution);
-    // A start known free is not tested (nor are its poses computed: a chain's takes a pass
-    // down its joints).
-    if !span.start_free && probe::collides_at(mesh1, path1, mesh2, path2, span.start) {
-        return Ok(Probed::Advanced(Some(Ends {
-            time: span.start,
-            within: None,
-            closest: None,
-            earlier: None,
-            resolution,
-            iterations: 0,
-            status: ContactStatus::StartedInContact,
-        })));
-    }
+    let started_in_contact = Ends {
+        time: span.start,
+        within: None,
+        closest: None,
+        earlier: None,
+        resolution,
+        iterations: 0,
+        status: ContactStatus::StartedInContact,
+    };
+    // Whether the start is known free. A start known free is not tested (nor are its poses
+    // computed: a chain's takes a pass down its joints). Otherwise the collision test waits
+    // for the first iteration: a step from the start certifies every pair apart there (a
+    // positive step needs a positive gap), and where the bodies fit closely the test costs
+    // more than the iteration (a third of a bolt screwed into its nut). Only a pair within
+    // the tolerance at the start leaves the question to the test.
+    let mut start_free = span.start_free;
     let small_radius = mesh1.bounding_radius().min(mesh2.bounding_radius());
     let far = (50.0 * delta).max(small_radius / 50.0);
     let mut search = StepSearch::new(
@@ -559,6 +563,9 @@ fn advance_core<const PROBING: bool>(
         cache.simplex = search.warm_simplex();
         match out {
             StepOutcome::Within { pair, closest } => {
+                if !start_free && probe::collides_at(mesh1, path1, mesh2, path2, span.start) {
+                    return Ok(Probed::Advanced(Some(started_in_contact)));
+                }
                 cache.pair = Some(pair);
                 return Ok(Probed::Advanced(Some(Ends {
                     time: t,
@@ -571,6 +578,7 @@ fn advance_core<const PROBING: bool>(
                 })));
             }
             StepOutcome::Step { dt, pair, distance } => {
+                start_free |= dt > 0.0;
                 cache.pair = pair.or(cache.pair);
                 last_distance = distance;
                 if t + dt >= span.end {
