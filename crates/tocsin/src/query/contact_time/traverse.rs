@@ -1009,10 +1009,18 @@ impl<'a> StepSearch<'a> {
                 let (c1, c2) = b.children(n2);
                 [(n1, c1), (n1, c2)]
             };
+            // The nearer pair by its volumes' gap, and where both overlap (a close fit, all
+            // the way down) by their centres' distance: always taking the first child there
+            // ended a tube's dive on the far side of its bore, whose pair the rotation does not
+            // limit, and the first traversal ran without the certificates (a taper in its bore
+            // 0.8 -> 3.5 ms with its triangles in another order).
             let gap = |(i, j): (u32, u32)| {
                 let (a, b) = (&nodes1[i as usize].rss, &nodes2[j as usize].rss);
                 let rel = RelativeRss::new(a, b, &self.rot12, self.trans12);
-                rss_separation(a, b, &rel, f64::INFINITY).0
+                let apart = a
+                    .center
+                    .distance_squared(self.rot12 * b.center + self.trans12);
+                (rss_separation(a, b, &rel, f64::INFINITY).0, apart)
             };
             (n1, n2) = if gap(pairs[0]) <= gap(pairs[1]) {
                 pairs[0]
