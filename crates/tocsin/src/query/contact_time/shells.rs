@@ -49,9 +49,12 @@ pub(crate) struct AxisShells {
     /// The query's point `O` on the axis: `body_point + body_dir * lambda`, the foot of the
     /// turning mesh's root centre (a ball's centre for a ball turning about its centre).
     lambda: f64,
-    /// Exact ranges over a turning node's triangle corners, computed on first use:
-    /// largest `rho`, smallest and largest `z`, largest distance from `O`.
+    /// Exact ranges over a turning node's triangle corners, computed on first use: largest
+    /// `rho`, smallest and largest `z`, largest distance from `O`.
     corners: std::cell::RefCell<std::collections::HashMap<u32, [f64; 4]>>,
+    /// The same ranges over each leaf's triangle and over each run of [`RUN`] leaves (by leaf
+    /// position), worked out together on first use, from which a node's are merged.
+    leaf_corners: std::cell::OnceCell<(CornerRanges, CornerRanges)>,
     /// A turning node's meridian direction (its volume's normal, [`Meridian::of_normal`]) and
     /// the exact range of `h` over its triangles (each triangle's own tangent form), computed
     /// on first use; `None` where the normal has no meridian part.
@@ -307,6 +310,25 @@ fn sphere(c: Vec3, e0: Vec3, e1: Vec3, l: [f64; 2], r: f64, o: Vec3) -> Range {
 /// turn by the helical certificates: the slide is rounding.
 const SLIDE_RESOLUTION: f64 = 1e-12;
 
+/// Corner ranges ([`merged`]) of a run of leaves or nodes.
+type CornerRanges = Vec<[f64; 4]>;
+
+/// Leaves per run whose corner ranges are kept merged ([`AxisShells::turning_corners`]).
+const RUN: usize = 32;
+
+/// Corner ranges merged: the largest `rho`, the `z` range, the largest distance from `O`
+/// (empty: `rho` and the distance 0, `z` inverted).
+fn merged(ranges: &[[f64; 4]]) -> [f64; 4] {
+    let mut r = [0.0, f64::INFINITY, f64::NEG_INFINITY, 0.0];
+    for x in ranges {
+        r[0] = if x[0] > r[0] { x[0] } else { r[0] };
+        r[1] = if x[1] < r[1] { x[1] } else { r[1] };
+        r[2] = if x[2] > r[2] { x[2] } else { r[2] };
+        r[3] = if x[3] > r[3] { x[3] } else { r[3] };
+    }
+    r
+}
+
 impl AxisShells {
     /// The certificate for this pair of motions, when it applies.
     pub(crate) fn new(
@@ -336,6 +358,7 @@ impl AxisShells {
             still: still.start(),
             lambda: (root.center - axis.body_point).dot(axis.body_dir),
             corners: Default::default(),
+            leaf_corners: Default::default(),
             meridians: Default::default(),
             helix: Helix::new(&axis, turning.start(), still.start()).filter(|_| slides),
             helices: Default::default(),
@@ -349,21 +372,47 @@ impl AxisShells {
 
     /// Exact corner ranges of the turning mesh's node `index` (see [`Self::corners`]), whose
     /// triangles are `triangles` (body frame).
-    fn turning_corners(&self, index: u32, triangles: &[[Vec3; 3]]) -> [f64; 4] {
+    fn turning_corners(&self, bvh: &Bvh, index: u32) -> [f64; 4] {
         if let Some(r) = self.corners.borrow().get(&index) {
             return *r;
         }
-        let ax = &self.axis;
-        let o = ax.body_point + ax.body_dir * self.lambda;
-        let mut r = [0.0, f64::INFINITY, f64::NEG_INFINITY, 0.0];
-        for v in triangles.iter().flatten() {
-            let rel = *v - ax.body_point;
-            let z = rel.dot(ax.body_dir);
-            r[0] = r[0].max((rel - ax.body_dir * z).length());
-            r[1] = r[1].min(z);
-            r[2] = r[2].max(z);
-            r[3] = r[3].max((*v - o).length());
-        }
+        // Merged from its leaves' ranges, and whole runs of them where it covers one: a
+        // traversal asks for nodes at every level over the same triangles, and a pass over each
+        // one's corners (two roots of 43K triangles and their subtrees) cost 44% of a wrist
+        // turning beside a board.
+        let (leaves, runs) = self.leaf_corners.get_or_init(|| {
+            let ax = &self.axis;
+            let o = ax.body_point + ax.body_dir * self.lambda;
+            let leaves: Vec<[f64; 4]> = bvh
+                .leaf_triangles()
+                .iter()
+                .map(|tri| {
+                    let mut r = [0.0, f64::INFINITY, f64::NEG_INFINITY, 0.0];
+                    for &v in tri {
+                        let rel = v - ax.body_point;
+                        let z = rel.dot(ax.body_dir);
+                        r[0] = r[0].max((rel - ax.body_dir * z).length());
+                        r[1] = r[1].min(z);
+                        r[2] = r[2].max(z);
+                        r[3] = r[3].max((v - o).length());
+                    }
+                    r
+                })
+                .collect();
+            let runs = leaves.chunks(RUN).map(merged).collect();
+            (leaves, runs)
+        });
+        let range = bvh.nodes()[index as usize].leaf_range();
+        let (first, last) = (range.start.div_ceil(RUN), range.end / RUN);
+        let r = if first >= last {
+            merged(&leaves[range])
+        } else {
+            merged(&[
+                merged(&leaves[range.start..first * RUN]),
+                merged(&runs[first..last]),
+                merged(&leaves[last * RUN..range.end]),
+            ])
+        };
         self.corners.borrow_mut().insert(index, r);
         r
     }
@@ -503,14 +552,15 @@ impl AxisShells {
     /// trees: only the still side's ranges loosen with the size of its volume.
     pub(crate) fn lower_bound_inner(
         &self,
-        index: u32,
-        triangles: &[[Vec3; 3]],
+        (turning_bvh, index): (&Bvh, u32),
         (still_bvh, still_index): (&Bvh, u32),
         (t, h): (f64, f64),
         need: f64,
     ) -> f64 {
         let still = &still_bvh.nodes()[still_index as usize].rss;
-        let [rho_hi, z_lo, z_hi, s_hi] = self.turning_corners(index, triangles);
+        let [rho_hi, z_lo, z_hi, s_hi] = self.turning_corners(turning_bvh, index);
+        let triangles =
+            &turning_bvh.leaf_triangles()[turning_bvh.nodes()[index as usize].leaf_range()];
         let ax = &self.axis;
         let slide = ax.along.abs() * h;
         let axis_point = ax.world_point + ax.world_dir * (ax.along * t);
@@ -1205,7 +1255,7 @@ mod meridian_tests {
                     let mut lb = shells.lower_bound(&a.rss, &b.rss, (t, h), f64::INFINITY);
                     for need in [1e9, 0.0] {
                         let inner =
-                            shells.lower_bound_inner(i as u32, tris1, (b2, j as u32), (t, h), need);
+                            shells.lower_bound_inner((b1, i as u32), (b2, j as u32), (t, h), need);
                         lb = lb.max(inner);
                     }
                     if a.is_leaf() && b.is_leaf() {

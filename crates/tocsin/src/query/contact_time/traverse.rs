@@ -471,19 +471,12 @@ impl<'a> StepSearch<'a> {
                 }
                 let mut lb = shells.lower_bound(&a.rss, &b.rss, (t, h), self.delta);
                 if lb <= self.delta {
-                    let (index, turning, still) = if shells.turning_is_1() {
-                        (n1, (self.bvh1, a), (self.bvh2, n2))
+                    let (turning, still) = if shells.turning_is_1() {
+                        ((self.bvh1, n1), (self.bvh2, n2))
                     } else {
-                        (n2, (self.bvh2, b), (self.bvh1, n1))
+                        ((self.bvh2, n2), (self.bvh1, n1))
                     };
-                    let triangles = &turning.0.leaf_triangles()[turning.1.leaf_range()];
-                    lb = lb.max(shells.lower_bound_inner(
-                        index,
-                        triangles,
-                        still,
-                        (t, h),
-                        self.delta,
-                    ));
+                    lb = lb.max(shells.lower_bound_inner(turning, still, (t, h), self.delta));
                 }
                 if lb <= self.delta && a.is_leaf() && b.is_leaf() {
                     let t1 = &self.bvh1.leaf_triangles()[a.leaf_position() as usize];
