@@ -84,7 +84,7 @@ pub(crate) fn intersecting_leaves(
             pose1,
             mesh2,
             pose2,
-            start,
+            (start, usize::MAX),
             hint.is_some(),
             &mut |l1, l2| {
                 found = Some((l1, l2));
@@ -151,16 +151,52 @@ pub fn collide_pairs(
 ) -> Vec<[usize; 2]> {
     let mut pairs = Vec::new();
     let (bvh1, bvh2) = (mesh1.bvh(), mesh2.bvh());
-    traverse(mesh1, pose1, mesh2, pose2, (0, 0), false, &mut |l1, l2| {
-        pairs.push([bvh1.triangle_index(l1), bvh2.triangle_index(l2)]);
-        true
-    });
+    traverse(
+        mesh1,
+        pose1,
+        mesh2,
+        pose2,
+        ((0, 0), usize::MAX),
+        false,
+        &mut |l1, l2| {
+            pairs.push([bvh1.triangle_index(l1), bvh2.triangle_index(l2)]);
+            true
+        },
+    );
     pairs.sort_unstable();
     pairs
 }
 
+/// Whether the meshes collide as far as a search of at most `budget` node pairs tells:
+/// `true` only where it found an intersecting (or touching) triangle pair, `false` where they
+/// are apart or the budget ran out first. For the yes/no questions' probes
+/// ([`crate::query::contact_time::probe`]), where a probe that finds nothing proves nothing:
+/// in a close fit, a full test that proves the meshes apart visits thousands of pairs.
+pub(crate) fn collides_within(
+    mesh1: &TriMesh,
+    pose1: &Pose,
+    mesh2: &TriMesh,
+    pose2: &Pose,
+    budget: usize,
+) -> bool {
+    let mut found = false;
+    traverse(
+        mesh1,
+        pose1,
+        mesh2,
+        pose2,
+        ((0, 0), budget),
+        false,
+        &mut |_, _| {
+            found = true;
+            false
+        },
+    );
+    found
+}
+
 /// Calls `on_pair` with the leaf positions of intersecting triangle pairs until it returns
-/// false.
+/// false, or until it has popped `budget` node pairs.
 ///
 /// A pair is on the stack only once its volumes are known to overlap (within the slack); when
 /// two internal volumes meet, both are split and the four child pairs bounded together.
@@ -169,7 +205,7 @@ fn traverse(
     pose1: &Pose,
     mesh2: &TriMesh,
     pose2: &Pose,
-    (root1, root2): (u32, u32),
+    ((root1, root2), budget): ((u32, u32), usize),
     ordered: bool,
     on_pair: &mut dyn FnMut(u32, u32) -> bool,
 ) {
@@ -194,7 +230,12 @@ fn traverse(
     // volumes overhang their triangles are told apart without descending to the leaves.
     let columns = ColumnPair::new(bvh1, bvh2, &pos12);
     let mut stack: Vec<(u32, u32)> = vec![(root1, root2)];
+    let mut popped = 0usize;
     while let Some((n1, n2)) = stack.pop() {
+        popped += 1;
+        if popped > budget {
+            return;
+        }
         let Some(e) = Expansion::of(nodes1, n1, nodes2, n2) else {
             let (l1, l2) = (
                 nodes1[n1 as usize].leaf_position(),
@@ -271,6 +312,48 @@ mod tests {
             }
         }
         out
+    }
+
+    /// The probes' budgeted test against brute force, on knots at random poses: with no budget
+    /// to speak of, the same verdict; with a small one, a collision only where brute force
+    /// finds one.
+    #[test]
+    fn budgeted_test_finds_only_real_collisions() {
+        let mut rng = ChaCha8Rng::seed_from_u64(78);
+        let (a, b) = (
+            mesh::torus_knot(60, 6).unwrap_or_else(|e| unreachable!("{e}")),
+            mesh::torus_knot(40, 5).unwrap_or_else(|e| unreachable!("{e}")),
+        );
+        let (mut hits, mut stopped) = (0, 0);
+        for k in 0..300 {
+            let axis = Vec3::new(
+                rng.random_range(-1.0..1.0),
+                rng.random_range(-1.0..1.0),
+                rng.random_range(-1.0..1.0),
+            )
+            .try_normalize()
+            .unwrap_or(Vec3::X);
+            let offset = axis * rng.random_range(0.0..8.0);
+            let p2 = Pose::from_axis_angle(axis.any_orthonormal_vector(), 0.1 * k as f64, offset);
+            let truth = !brute(&a, &Pose::IDENTITY, &b, &p2).is_empty();
+            assert_eq!(
+                collides_within(&a, &Pose::IDENTITY, &b, &p2, usize::MAX),
+                truth
+            );
+            let budget = rng.random_range(1..64);
+            let found = collides_within(&a, &Pose::IDENTITY, &b, &p2, budget);
+            assert!(
+                !found || truth,
+                "case {k}: a collision brute force does not see"
+            );
+            hits += usize::from(found);
+            stopped += usize::from(truth && !found);
+        }
+        // Both ways: budgets that found collisions, and budgets that ran out before one.
+        assert!(
+            hits > 20 && stopped > 20,
+            "{hits} found, {stopped} given up"
+        );
     }
 
     /// `intersecting_leaves` against brute force over all triangle pairs, on knots at random

@@ -276,7 +276,8 @@ pub fn time_of_contact_with_cache(
 /// witnesses, stops at the first iteration within the tolerance, and settles colliding motions
 /// with exact collision tests at a few times before the advancement converges to the contact
 /// (`probe.rs`'s schedule: the end, the middle, then evenly spaced times of the rest when the
-/// advancement is slow). A collision found so is a real one, so the answer is the same.
+/// advancement is slow; each test gives up after a budget of node pairs). A collision found so
+/// is a real one, so the answer is the same.
 ///
 /// # Errors
 /// As [`time_of_contact`]: bad options, or the iteration cap reached before the answer is known.
