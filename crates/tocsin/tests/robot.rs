@@ -931,3 +931,78 @@ fn batches_match_single_calls_and_bad_input_is_refused() {
     assert!(query::time_of_contact(&robot, &qs[0][..1], &qs[1], &scene, &opts).is_err());
     assert!(query::check_configurations(&robot, &[vec![f64::NAN; robot.dof()]], &scene).is_err());
 }
+
+/// A key passing a bump of its bore while the bore drifts: the case the frozen check's drift
+/// allowance is for (`robot/query/frozen.rs`). The shaft (radius 0.05, its key of radius 0.06
+/// on its upper part only) spins one and a half turns backwards on a lever that swings;
+/// below, the bore clears the shaft by 0.5% of its radius (the clearance that sizes the frozen
+/// pieces); above, a groove clears the key by 10 mm but for a bump (at 1.7 or 2.1 rad) that
+/// the key passes `pass` apart at the start's pose. The swing carries the bump towards the
+/// shaft, so the key meets it late in a piece: a check that took the frozen distance for the
+/// true one finds that contact late (`pass` 60 um at 2.1 rad). At a tolerance of 20 um a near
+/// miss at 1.5 tolerances also took the chain over 1,000 iterations where it took over within
+/// 2 tolerances of a frozen contact. The answers go against the oracle.
+#[test]
+fn a_key_passing_a_bump_while_its_bore_drifts() {
+    use std::f64::consts::PI;
+    let dir = scratch("bump");
+    let (r, n) = (0.05, 64);
+    let half = PI / n as f64;
+    let shaft = tocsin::mesh::revolved(
+        |a, z| if z >= 0.05 && a < 0.3 { r + 0.01 } else { r },
+        0.2,
+        n,
+        8,
+    )
+    .unwrap();
+    let file = dir.join("shaft.obj");
+    write_obj(&file, &shaft);
+    let xml = robot_xml(&format!(
+        "{}{}{}{}{}",
+        link("base", ""),
+        link("lever", ""),
+        link("shaft", &format!("<mesh filename='{}'/>", file.display())),
+        joint("swing", "revolute", "base", "lever", "0 0 0", "0 0 1"),
+        joint("spin", "continuous", "lever", "shaft", "0.3 0 0", "0 0 1"),
+    ));
+    let robot = Robot::from_urdf_str(&xml, None, &[]).unwrap();
+    let (mut contacts, mut free) = (0, 0);
+    for (bump_at, pass) in [(1.7, 1.2e-4), (2.1, 6e-5), (2.1, 1.2e-4)] {
+        // The bump's faces, between its corners, lie `pass` beyond the key's corners.
+        let bump = (r + 0.01 + pass) / half.cos();
+        let bore = tocsin::mesh::revolved(
+            move |a, z| {
+                if z <= 0.0 {
+                    r * 1.005 / half.cos()
+                } else if (a - bump_at).abs() < 0.2 {
+                    bump
+                } else {
+                    0.07
+                }
+            },
+            0.3,
+            n,
+            12,
+        )
+        .unwrap();
+        let mut scene = Scene::new();
+        scene.add(
+            "bore",
+            Arc::new(bore),
+            Pose::from_translation(Vec3::new(0.3, 0.0, 0.0)),
+        );
+        for swing in [6e-4, 1e-3] {
+            let case = format!("bump at {bump_at}, pass {pass}, swing {swing}");
+            let edge = (&[0.0, 0.0][..], &[swing, -3.0 * PI][..]);
+            match check_edge_within(&robot, edge, &scene, Some(2e-5), &case) {
+                Some(_) => contacts += 1,
+                None => free += 1,
+            }
+        }
+    }
+    // Contacts the drift brings, and near misses the drift allowance lets through.
+    assert!(
+        contacts >= 2 && free >= 2,
+        "{contacts} contacts, {free} free"
+    );
+}

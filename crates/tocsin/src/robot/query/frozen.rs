@@ -20,8 +20,8 @@
 //! **Pieces.** The obstacle's drift must stay well inside the clearance. An approximate
 //! distance `d` at a piece's start sizes it: `eps = room / 4`, `room = d - delta`, so the drift
 //! over the piece eats at most half the room, and the next piece (sized again from its own
-//! start) is shorter as a contact nears. Within `2 delta` the chain's advancement takes over; it
-//! settles a contact there in a few steps. A check that finds a frozen contact at `t_c` has
+//! start) is shorter as a contact nears. Within `1.25 delta` the chain's advancement takes
+//! over; it settles a contact there in a few steps. A check that finds a frozen contact at `t_c` has
 //! certified `[a, t_c)` (its steps keep every pair above its half tolerance), and the next
 //! piece starts there; one that stops at its iteration cap hands over to the chain. The checks
 //! are tried where the turn dominates (the joint's points move [`DOMINANCE`] times faster than
@@ -43,8 +43,11 @@ use crate::robot::chain::ChainPath;
 /// moves the obstacle's (in the parent's frame) for the frozen check to be tried.
 const DOMINANCE: f64 = 4.0;
 
-/// The most iterations a frozen check takes before the chain's advancement takes over.
-const FROZEN_ITERATIONS: usize = 10;
+/// The most iterations a frozen check takes before the chain's advancement takes over. A key
+/// coming round to a bump of its bore takes a frozen check about as many iterations as it
+/// takes the key's clearance to halve down to the tolerance (11 for a key of 6 cm at a
+/// tolerance of 20 um); with 10 the chain took over and ran past 1,000 iterations.
+const FROZEN_ITERATIONS: usize = 32;
 
 /// Clearances the link's points must sweep over the span for the frozen check to be tried.
 const SWEEP: f64 = 200.0;
@@ -109,9 +112,11 @@ impl Segment<'_> {
             // A check ends at a frozen pair within `delta + 2 eps`, and the frozen distance
             // is about `d - eps` where the clearance holds: a piece of length `len` drifts by
             // `eps = speed len / 2 = room / 4`, `room = d - delta`, and the room left after it
-            // is at least half. Within `2 delta` the chain settles the contact in a few steps.
+            // is at least half. Within `1.25 delta` the chain takes over, to settle a contact
+            // or pass a near miss there (taking over within `2 delta`, it ground through a key
+            // passing a bump of its bore at 1.5 tolerances, over 1,000 iterations).
             let room = d - self.delta;
-            if room <= self.delta {
+            if room <= 0.25 * self.delta {
                 return t;
             }
             let len = room / (2.0 * speed);
