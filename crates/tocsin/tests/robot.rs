@@ -704,6 +704,22 @@ fn random_chains_against_dense_sampling() {
     );
 }
 
+/// A robot whose lever swings about the base's z axis and spins `shaft` (written to `dir`)
+/// about z at 0.3 along it.
+fn shaft_on_a_lever(dir: &Path, shaft: &TriMesh) -> Robot {
+    let file = dir.join("shaft.obj");
+    write_obj(&file, shaft);
+    let xml = robot_xml(&format!(
+        "{}{}{}{}{}",
+        link("base", ""),
+        link("lever", ""),
+        link("shaft", &format!("<mesh filename='{}'/>", file.display())),
+        joint("swing", "revolute", "base", "lever", "0 0 0", "0 0 1"),
+        joint("spin", "continuous", "lever", "shaft", "0.3 0 0", "0 0 1"),
+    ));
+    Robot::from_urdf_str(&xml, None, &[]).unwrap()
+}
+
 /// A 64-sided shaft of radius 0.05 and length 0.2 about z, and a 64-sided bore of length 0.3
 /// whose faces clear the shaft's edges by `clearance` of its radius. `keyed`: a key on the
 /// shaft (radius 0.06 for angles below 0.3 rad) runs in a groove of the bore (radius 0.07)
@@ -803,17 +819,7 @@ fn shafts_spinning_on_a_swinging_lever_against_dense_sampling() {
         (true, 5e-4, true),
     ] {
         let (shaft, bore) = shaft_and_bore(keyed, 0.01);
-        let file = dir.join("shaft.obj");
-        write_obj(&file, &shaft);
-        let xml = robot_xml(&format!(
-            "{}{}{}{}{}",
-            link("base", ""),
-            link("lever", ""),
-            link("shaft", &format!("<mesh filename='{}'/>", file.display())),
-            joint("swing", "revolute", "base", "lever", "0 0 0", "0 0 1"),
-            joint("spin", "continuous", "lever", "shaft", "0.3 0 0", "0 0 1"),
-        ));
-        let robot = Robot::from_urdf_str(&xml, None, &[]).unwrap();
+        let robot = shaft_on_a_lever(&dir, &shaft);
         let mut scene = Scene::new();
         let at = Pose::from_translation(Vec3::new(0.3, 0.0, 0.0));
         scene.add("bore", Arc::new(bore), at);
@@ -955,17 +961,7 @@ fn a_key_passing_a_bump_while_its_bore_drifts() {
         8,
     )
     .unwrap();
-    let file = dir.join("shaft.obj");
-    write_obj(&file, &shaft);
-    let xml = robot_xml(&format!(
-        "{}{}{}{}{}",
-        link("base", ""),
-        link("lever", ""),
-        link("shaft", &format!("<mesh filename='{}'/>", file.display())),
-        joint("swing", "revolute", "base", "lever", "0 0 0", "0 0 1"),
-        joint("spin", "continuous", "lever", "shaft", "0.3 0 0", "0 0 1"),
-    ));
-    let robot = Robot::from_urdf_str(&xml, None, &[]).unwrap();
+    let robot = shaft_on_a_lever(&dir, &shaft);
     let (mut contacts, mut free) = (0, 0);
     for (bump_at, pass) in [(1.7, 1.2e-4), (2.1, 6e-5), (2.1, 1.2e-4)] {
         // The bump's faces, between its corners, lie `pass` beyond the key's corners.

@@ -2,12 +2,13 @@
 //! conservative advancement, for the questions that only ask whether a motion is free
 //! ([`crate::motion_is_free`], the robot's `path_is_free`).
 //!
-//! A collision found by a probe is a real one: the meshes then come closer than `delta / 2`,
-//! so the time of contact would report a contact too, and the answer "not free" is the same.
-//! A probe that finds nothing proves nothing, and the advancement still certifies every free
-//! answer; so a probe's collision test gives up after [`PROBE_BUDGET`] node pairs (proving a
-//! close fit apart took more than the whole advancement). The probes only settle colliding motions sooner: a motion that collides half way
-//! costs two collision tests instead of the advancement's converging to the contact.
+//! A collision found by a probe is a real one: the meshes then come closer than `delta / 2`, so the
+//! time of contact would report a contact too, and the answer "not free" is the same. A probe that
+//! finds nothing proves nothing, and the advancement still certifies every free answer; so a
+//! probe's collision test gives up after [`PROBE_BUDGET`] node pairs (proving a close fit apart
+//! took more than the whole advancement). The probes only settle colliding motions sooner: a motion
+//! that collides half way costs two collision tests instead of the advancement's converging to the
+//! contact.
 //!
 //! The schedule (measured on the robot benches first, then on the rigid contact-time set;
 //! docs/BENCHMARKS.md):

@@ -17,20 +17,19 @@
 //! above `delta / 2 + eps` throughout. The true distance then stays above `delta / 2`, so the
 //! pair cannot have a contact the segment query must report on `[a, b]`.
 //!
-//! **Pieces.** The obstacle's drift must stay well inside the clearance. An approximate
-//! distance `d` at a piece's start sizes it: `eps = room / 4`, `room = d - delta`, so the drift
-//! over the piece eats at most half the room, and the next piece (sized again from its own
-//! start) is shorter as a contact nears. Within `1.25 delta` the chain's advancement takes
-//! over; it settles a contact there in a few steps. A check that finds a frozen contact at `t_c` has
-//! certified `[a, t_c)` (its steps keep every pair above its half tolerance), and the next
-//! piece starts there; one that stops at its iteration cap hands over to the chain. The checks
-//! are tried where the turn dominates (the joint's points move [`DOMINANCE`] times faster than
-//! `P`'s points at the obstacle), where the link sweeps at least [`SWEEP`] clearances (else the
-//! chain's steps are long enough on their own), and where the span needs at most
-//! [`MAX_PIECES`] pieces at its start's clearance (each check starts its certificates' caches
-//! cold, about 1 ms on a 43K-triangle sensor). The checks only certify: every contact is still
-//! found by the chain's advancement, so the segment query's answers keep their meaning. An
-//! ordinary planner's edge moves every joint alike and never takes them.
+//! **Pieces.** The obstacle's drift must stay well inside the clearance. An approximate distance
+//! `d` at a piece's start sizes it: `eps = room / 4`, `room = d - delta`, so the drift over the
+//! piece eats at most half the room, and the next piece (sized again from its own start) is shorter
+//! as a contact nears. Within `1.25 delta` the chain's advancement takes over; it settles a contact
+//! there in a few steps. A check that finds a frozen contact at `t_c` has certified `[a, t_c)` (its
+//! steps keep every pair above its half tolerance), and the next piece starts there; one that stops
+//! at its iteration cap hands over to the chain. The checks are tried where the turn dominates (the
+//! joint's points move [`DOMINANCE`] times faster than `P`'s points at the obstacle), where the
+//! link sweeps at least [`SWEEP`] clearances (else the chain's steps are long enough on their own),
+//! and where the span needs at most [`MAX_PIECES`] pieces at its start's clearance (each check
+//! starts its certificates' caches cold, about 1 ms on a 43K-triangle sensor). The checks only
+//! certify: every contact is still found by the chain's advancement, so the segment query's answers
+//! keep their meaning. An ordinary planner's edge moves every joint alike and never takes them.
 
 use super::{Pair, Segment};
 use crate::math::Pose;
