@@ -261,6 +261,94 @@ fn random_soups_and_motions_against_sampling() {
     );
 }
 
+/// Starts at the edge of contact, on every path (convex pairs, the same through the general
+/// path, random soups): body 2 placed along a random direction where `collide` flips (by
+/// bisection), then a little inside that, at it, and a little and a tolerance or two outside,
+/// every motion kind, moving apart or not. The collision test at the start waits for the
+/// first iteration (which proves the start free when it steps), so `check`'s
+/// `StartedInContact` exactly where the start collides is the point here.
+#[test]
+fn starts_at_the_edge_of_contact_on_every_path() {
+    let mut rng = rng(93);
+    let mut started = 0;
+    for case in 0..60 {
+        let (m1, m2) = match case % 3 {
+            0 => (random_convex(&mut rng), random_convex(&mut rng)),
+            1 => (
+                as_soup(&random_convex(&mut rng)),
+                as_soup(&random_convex(&mut rng)),
+            ),
+            _ => (
+                random_soup(&mut rng, 12, 1.0),
+                random_soup(&mut rng, 12, 1.0),
+            ),
+        };
+        let (r1, r2) = (random_rotation(&mut rng), random_rotation(&mut rng));
+        let dir = random_unit(&mut rng);
+        let at = |s: f64| Pose {
+            rotation: r2,
+            translation: dir * s,
+        };
+        let p1 = Pose {
+            rotation: r1,
+            translation: Vec3::ZERO,
+        };
+        let (mut lo, mut hi) = (0.0, m1.bounding_radius() + m2.bounding_radius() + 1.0);
+        if !collide(&m1, &p1, &m2, &at(lo)) {
+            continue;
+        }
+        for _ in 0..60 {
+            let mid = 0.5 * (lo + hi);
+            if collide(&m1, &p1, &m2, &at(mid)) {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        let kind = case % 3;
+        // Not `hi` itself: the meshes touch to rounding there, and the normal's direction is
+        // noise (the distance's points are too).
+        for (k, s) in [lo - 1e-3, lo, hi + 1e-6, hi + 1e-3, hi + 4e-3]
+            .into_iter()
+            .enumerate()
+        {
+            let s2 = at(s);
+            let e1 = Pose {
+                rotation: random_rotation(&mut rng),
+                translation: random_unit(&mut rng) * rng.random_range(0.0..2.0),
+            };
+            let mo1 = random_motion(&mut rng, kind, p1, e1);
+            let mo2 = if k % 2 == 0 {
+                Motion::stationary(s2)
+            } else {
+                let e2 = Pose {
+                    rotation: r2,
+                    translation: dir * (s + rng.random_range(0.0..1.0)),
+                };
+                random_motion(&mut rng, kind, s2, e2)
+            };
+            // Not where the start is between half the tolerance and the tolerance apart: there
+            // either answer keeps the contract, and `check` asks for a contact.
+            let delta = tocsin::query::contact_time::effective_tolerance(
+                &m1,
+                &mo1,
+                &m2,
+                &mo2,
+                &ContactOptions::default(),
+            );
+            let (d, _, _) = brute_distance(&m1, &p1, &m2, &s2);
+            if d > 0.5 * delta && d <= delta {
+                continue;
+            }
+            let label = format!("edge case {case} kind {kind} offset {k}");
+            check(&m1, &mo1, &m2, &mo2, None, &label);
+            let c = time_of_contact(&m1, &mo1, &m2, &mo2, &ContactOptions::default()).unwrap();
+            started += usize::from(c.is_some_and(|c| c.status == ContactStatus::StartedInContact));
+        }
+    }
+    assert!(started > 40, "{started} starts in contact");
+}
+
 /// A convex mesh (a box, a coarse sphere or a cylinder) under a random stretch and shear.
 fn random_convex(rng: &mut impl Rng) -> TriMesh {
     let base = match rng.random_range(0..3) {
