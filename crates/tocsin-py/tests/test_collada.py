@@ -159,3 +159,44 @@ def test_a_robot_link_in_collada_is_the_same_as_in_obj(tmp_path):
         answers[ext] = [r.in_collision(np.array([q]), scene) for q in np.linspace(-1, 1, 41)]
     assert answers["obj"] == answers["dae"]
     assert any(answers["obj"]) and not all(answers["obj"])
+
+
+MALFORMED = """<?xml version="1.0" encoding="utf-8"?>
+<COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">
+<asset><unit name="u" meter="1"/><up_axis>Y_UP</up_axis></asset>
+<library_geometries><geometry id="g"><mesh>
+<source id="gp"><float_array id="gpa" count="9">0 0 0 1 0 0 0 1 0</float_array>
+<technique_common><accessor source="#gpa" count="3" stride="3"><param name="X" type="float"/>
+<param name="Y" type="float"/><param name="Z" type="float"/></accessor></technique_common></source>
+<vertices id="gv"><input semantic="POSITION" source="#gp"/></vertices>
+<triangles count="1"><input semantic="VERTEX" source="#gv" offset="0"/><p>0 1 99</p></triangles>
+</mesh></geometry></library_geometries>
+<library_visual_scenes><visual_scene id="S"><node><instance_geometry url="#g"/></node>
+</visual_scene></library_visual_scenes>
+<scene><instance_visual_scene url="#S"/></scene>
+</COLLADA>
+"""
+
+
+def test_a_malformed_file_is_an_error_without_a_panic_report(tmp_path):
+    """The COLLADA reader panics on an index past its array: the caller gets MeshError, and
+    stderr gets no panic message or backtrace (the panic is caught quietly), in a fresh
+    process with backtraces on."""
+    import os
+    import subprocess
+    import sys
+
+    path = tmp_path / "bad.dae"
+    path.write_text(MALFORMED)
+    code = (
+        "import tocsin\n"
+        "try:\n"
+        f"    tocsin.Mesh.load({str(path)!r})\n"
+        "except tocsin.MeshError as e:\n"
+        "    print('MeshError', e)\n"
+    )
+    env = dict(os.environ, RUST_BACKTRACE="1")
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env)
+    assert r.returncode == 0, r.stderr
+    assert r.stdout.startswith("MeshError") and "malformed geometry" in r.stdout, r.stdout
+    assert "panicked" not in r.stderr and "backtrace" not in r.stderr, r.stderr

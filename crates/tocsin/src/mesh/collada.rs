@@ -31,7 +31,7 @@
 //!   100 million placed triangles (library nodes instancing each other twice over multiply
 //!   them), and a file without a visual scene.
 //! - mesh-loader panics on some malformed geometry (an index past its array, missing normals);
-//!   the panic is caught and becomes a parse error.
+//!   the panic is caught, quietly (no message on stderr), and becomes a parse error.
 
 use std::collections::HashMap;
 
@@ -187,7 +187,7 @@ fn without_scene(text: &str, doc: &roxmltree::Document<'_>) -> String {
 
 /// Each geometry's local triangles, by id, as mesh-loader reads them.
 fn local_geometries(text: &str) -> Result<HashMap<String, Local>, String> {
-    let scene = std::panic::catch_unwind(|| mesh_loader::collada::from_str(text))
+    let scene = catch_quietly(|| mesh_loader::collada::from_str(text))
         .map_err(|_| "the COLLADA reader failed on this file (malformed geometry)".to_string())?
         .map_err(|e| e.to_string())?;
     Ok(scene
@@ -195,6 +195,30 @@ fn local_geometries(text: &str) -> Result<HashMap<String, Local>, String> {
         .into_iter()
         .map(|m| (m.name, (m.vertices, m.faces)))
         .collect())
+}
+
+thread_local! {
+    /// Whether a panic on this thread is being caught by [`catch_quietly`].
+    static QUIET: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+}
+
+/// `catch_unwind`, without the panic's message on stderr: a malformed file is an error the
+/// caller gets, not a crash report. The process's panic hook is wrapped once, and the previous
+/// hook still reports every other panic (another thread's, or one outside such a call).
+fn catch_quietly<R>(f: impl FnOnce() -> R) -> std::thread::Result<R> {
+    static WRAP: std::sync::Once = std::sync::Once::new();
+    WRAP.call_once(|| {
+        let previous = std::panic::take_hook();
+        std::panic::set_hook(Box::new(move |info| {
+            if !QUIET.with(std::cell::Cell::get) {
+                previous(info);
+            }
+        }));
+    });
+    let was = QUIET.with(|q| q.replace(true));
+    let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(f));
+    QUIET.with(|q| q.set(was));
+    r
 }
 
 /// A COLLADA file's vertices and triangles (module docs).

@@ -370,8 +370,8 @@ impl AxisShells {
         })
     }
 
-    /// Exact corner ranges of the turning mesh's node `index` (see [`Self::corners`]), whose
-    /// triangles are `triangles` (body frame).
+    /// Exact corner ranges of the turning mesh's node `index` of its hierarchy `bvh` (see
+    /// [`Self::corners`]; body frame).
     fn turning_corners(&self, bvh: &Bvh, index: u32) -> [f64; 4] {
         if let Some(r) = self.corners.borrow().get(&index) {
             return *r;
