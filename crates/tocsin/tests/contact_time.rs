@@ -1186,6 +1186,50 @@ fn turning_in_close_fits_against_sampling() {
     }
 }
 
+/// A mesh keeps the corner ranges the rotation certificates last worked out about an axis,
+/// for the next query about the same one: queries about a few axes, interleaved on the same
+/// meshes, give what the same queries give on fresh copies (which keep nothing).
+#[test]
+fn kept_ranges_about_an_axis_change_no_answer() {
+    let shaft = tube(1.0, 4.0, 64, 4);
+    let bore = tube(1.01, 6.0, 64, 4);
+    let still = Motion::stationary(Pose::IDENTITY);
+    let opts = ContactOptions::default();
+    let motions: Vec<Motion> = [
+        (Vec3::Z, 180.0, Vec3::ZERO),
+        (Vec3::Z, 90.0, Vec3::ZERO),
+        (Vec3::new(0.0, 0.05, 1.0), 120.0, Vec3::ZERO),
+        (Vec3::Z, 180.0, Vec3::new(0.0, 0.0, 0.5)),
+        (Vec3::X, 30.0, Vec3::ZERO),
+    ]
+    .into_iter()
+    .map(|(axis, degrees, slide)| {
+        Motion::screw(Pose::IDENTITY, turn(axis.normalize(), degrees, slide)).unwrap()
+    })
+    .collect();
+    let key = |c: Option<tocsin::ContactTime>| c.map(|c| (c.time, c.iterations, c.status));
+    let (mut contacts, mut free) = (0, 0);
+    for round in 0..3 {
+        for (k, mo) in motions.iter().enumerate() {
+            let kept = time_of_contact(&shaft, mo, &bore, &still, &opts).unwrap();
+            let fresh = time_of_contact(&shaft.clone(), mo, &bore.clone(), &still, &opts);
+            assert_eq!(key(kept), key(fresh.unwrap()), "round {round}, motion {k}");
+            let swapped = time_of_contact(&bore, &still, &shaft, mo, &opts).unwrap();
+            let fresh = time_of_contact(&bore.clone(), &still, &shaft.clone(), mo, &opts);
+            assert_eq!(
+                key(swapped),
+                key(fresh.unwrap()),
+                "round {round}, motion {k}"
+            );
+            match kept {
+                Some(_) => contacts += 1,
+                None => free += 1,
+            }
+        }
+    }
+    assert!(contacts > 0 && free > 0, "{contacts} contacts, {free} free");
+}
+
 #[test]
 fn far_from_the_origin_and_at_extreme_scales() {
     // Soups of 1e-7 to 1e7 (the two bodies up to 1,000 times apart in size), up to 1e6 of

@@ -38,6 +38,47 @@ pub struct TriMesh {
     /// The convex hull of the corners, as a convex mesh whose polytope climbs, made on first
     /// use ([`TriMesh::hull`]), and whether every distinct corner is one of its corners.
     hull: std::sync::OnceLock<Option<(Box<TriMesh>, bool)>>,
+    /// The per-leaf corner ranges a rotation certificate last worked out about an axis, with
+    /// that axis's key ([`AxisMemo`]).
+    axis_corners: AxisMemo,
+}
+
+/// A mesh's last per-leaf ranges about an axis (`query/contact_time/shells.rs`), keyed by the
+/// axis's bits: a wrist's frozen checks ask for the same axis piece after piece. A clone
+/// starts empty.
+#[derive(Debug, Default)]
+pub(crate) struct AxisMemo(std::sync::Mutex<Option<AxisCorners>>);
+
+/// A key (the bits of the axis's point, direction and the query's point along it) and the
+/// per-leaf and per-run ranges worked out about it.
+pub(crate) type AxisCorners = ([u64; 7], std::sync::Arc<[Vec<[f64; 4]>; 2]>);
+
+impl Clone for AxisMemo {
+    fn clone(&self) -> Self {
+        Self::default()
+    }
+}
+
+impl AxisMemo {
+    /// The ranges kept under `key`, or those `work` makes, then kept in their place.
+    pub(crate) fn get_or(
+        &self,
+        key: [u64; 7],
+        work: impl FnOnce() -> [Vec<[f64; 4]>; 2],
+    ) -> std::sync::Arc<[Vec<[f64; 4]>; 2]> {
+        if let Ok(kept) = self.0.lock() {
+            if let Some((k, r)) = kept.as_ref() {
+                if *k == key {
+                    return r.clone();
+                }
+            }
+        }
+        let r = std::sync::Arc::new(work());
+        if let Ok(mut kept) = self.0.lock() {
+            *kept = Some((key, r.clone()));
+        }
+        r
+    }
 }
 
 /// Leaf positions sharing a vertex with each leaf: `list[offsets[i]..offsets[i + 1]]`.
@@ -76,6 +117,7 @@ impl TriMesh {
             neighbours: std::sync::OnceLock::new(),
             balls: std::sync::OnceLock::new(),
             hull: std::sync::OnceLock::new(),
+            axis_corners: AxisMemo::default(),
         }
     }
 
@@ -201,6 +243,11 @@ impl TriMesh {
     pub(crate) fn inscribed_balls(&self) -> &[crate::query::penetration::balls::Ball] {
         self.balls
             .get_or_init(|| crate::query::penetration::balls::inscribed_balls(self))
+    }
+
+    /// The last per-leaf ranges worked out about an axis ([`AxisMemo`]).
+    pub(crate) fn axis_corners(&self) -> &AxisMemo {
+        &self.axis_corners
     }
 
     /// Per leaf position, the leaf positions of the triangles that share a vertex with it

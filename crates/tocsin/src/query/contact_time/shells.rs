@@ -54,7 +54,7 @@ pub(crate) struct AxisShells {
     corners: std::cell::RefCell<std::collections::HashMap<u32, [f64; 4]>>,
     /// The same ranges over each leaf's triangle and over each run of [`RUN`] leaves (by leaf
     /// position), worked out together on first use, from which a node's are merged.
-    leaf_corners: std::cell::OnceCell<(CornerRanges, CornerRanges)>,
+    leaf_corners: std::cell::OnceCell<std::sync::Arc<[CornerRanges; 2]>>,
     /// A turning node's meridian direction (its volume's normal, [`Meridian::of_normal`]) and
     /// the exact range of `h` over its triangles (each triangle's own tangent form), computed
     /// on first use; `None` where the normal has no meridian part.
@@ -370,39 +370,26 @@ impl AxisShells {
         })
     }
 
-    /// Exact corner ranges of the turning mesh's node `index` of its hierarchy `bvh` (see
-    /// [`Self::corners`]; body frame).
-    fn turning_corners(&self, bvh: &Bvh, index: u32) -> [f64; 4] {
+    /// Exact corner ranges of the turning mesh's node `index` (see [`Self::corners`]; body
+    /// frame).
+    fn turning_corners(&self, mesh: &TriMesh, index: u32) -> [f64; 4] {
         if let Some(r) = self.corners.borrow().get(&index) {
             return *r;
         }
         // Merged from its leaves' ranges, and whole runs of them where it covers one: a
         // traversal asks for nodes at every level over the same triangles, and a pass over each
         // one's corners (two roots of 43K triangles and their subtrees) cost 44% of a wrist
-        // turning beside a board.
-        let (leaves, runs) = self.leaf_corners.get_or_init(|| {
+        // turning beside a board. The leaves' from their vertices' (a closed mesh has half as
+        // many vertices as triangles: a sixth of the square roots).
+        let [leaves, runs] = &**self.leaf_corners.get_or_init(|| {
+            // The mesh keeps the last axis's: a wrist's frozen checks ask for the same one
+            // piece after piece.
             let ax = &self.axis;
-            let o = ax.body_point + ax.body_dir * self.lambda;
-            let leaves: Vec<[f64; 4]> = bvh
-                .leaf_triangles()
-                .iter()
-                .map(|tri| {
-                    let mut r = [0.0, f64::INFINITY, f64::NEG_INFINITY, 0.0];
-                    for &v in tri {
-                        let rel = v - ax.body_point;
-                        let z = rel.dot(ax.body_dir);
-                        r[0] = r[0].max((rel - ax.body_dir * z).length());
-                        r[1] = r[1].min(z);
-                        r[2] = r[2].max(z);
-                        r[3] = r[3].max((v - o).length());
-                    }
-                    r
-                })
-                .collect();
-            let runs = leaves.chunks(RUN).map(merged).collect();
-            (leaves, runs)
+            let (p, d) = (ax.body_point.to_array(), ax.body_dir.to_array());
+            let key = [p[0], p[1], p[2], d[0], d[1], d[2], self.lambda].map(f64::to_bits);
+            mesh.axis_corners().get_or(key, || self.work_corners(mesh))
         });
-        let range = bvh.nodes()[index as usize].leaf_range();
+        let range = mesh.bvh().nodes()[index as usize].leaf_range();
         let (first, last) = (range.start.div_ceil(RUN), range.end / RUN);
         let r = if first >= last {
             merged(&leaves[range])
@@ -415,6 +402,30 @@ impl AxisShells {
         };
         self.corners.borrow_mut().insert(index, r);
         r
+    }
+
+    /// The per-leaf and per-run corner ranges of the turning mesh about this axis
+    /// ([`Self::turning_corners`]).
+    fn work_corners(&self, mesh: &TriMesh) -> [CornerRanges; 2] {
+        let (ax, bvh) = (&self.axis, mesh.bvh());
+        let o = ax.body_point + ax.body_dir * self.lambda;
+        let vertices: Vec<[f64; 4]> = mesh
+            .vertices()
+            .iter()
+            .map(|&v| {
+                let rel = v - ax.body_point;
+                let z = rel.dot(ax.body_dir);
+                [(rel - ax.body_dir * z).length(), z, z, (v - o).length()]
+            })
+            .collect();
+        let leaves: Vec<[f64; 4]> = (0..bvh.leaf_triangles().len())
+            .map(|i| {
+                let tri = mesh.triangles()[bvh.triangle_index(i as u32)];
+                merged(&tri.map(|v| vertices[v as usize]))
+            })
+            .collect();
+        let runs = leaves.chunks(RUN).map(merged).collect();
+        [leaves, runs]
     }
 
     /// The meridian direction and range of the turning mesh's node `index` ([`Self::meridians`]),
@@ -552,13 +563,14 @@ impl AxisShells {
     /// trees: only the still side's ranges loosen with the size of its volume.
     pub(crate) fn lower_bound_inner(
         &self,
-        (turning_bvh, index): (&Bvh, u32),
+        (turning, index): (&TriMesh, u32),
         (still_bvh, still_index): (&Bvh, u32),
         (t, h): (f64, f64),
         need: f64,
     ) -> f64 {
         let still = &still_bvh.nodes()[still_index as usize].rss;
-        let [rho_hi, z_lo, z_hi, s_hi] = self.turning_corners(turning_bvh, index);
+        let [rho_hi, z_lo, z_hi, s_hi] = self.turning_corners(turning, index);
+        let turning_bvh = turning.bvh();
         let triangles =
             &turning_bvh.leaf_triangles()[turning_bvh.nodes()[index as usize].leaf_range()];
         let ax = &self.axis;
@@ -1255,7 +1267,7 @@ mod meridian_tests {
                     let mut lb = shells.lower_bound(&a.rss, &b.rss, (t, h), f64::INFINITY);
                     for need in [1e9, 0.0] {
                         let inner =
-                            shells.lower_bound_inner((b1, i as u32), (b2, j as u32), (t, h), need);
+                            shells.lower_bound_inner((&m1, i as u32), (b2, j as u32), (t, h), need);
                         lb = lb.max(inner);
                     }
                     if a.is_leaf() && b.is_leaf() {

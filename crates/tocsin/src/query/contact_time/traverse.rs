@@ -472,9 +472,9 @@ impl<'a> StepSearch<'a> {
                 let mut lb = shells.lower_bound(&a.rss, &b.rss, (t, h), self.delta);
                 if lb <= self.delta {
                     let (turning, still) = if shells.turning_is_1() {
-                        ((self.bvh1, n1), (self.bvh2, n2))
+                        ((self.mesh1, n1), (self.bvh2, n2))
                     } else {
-                        ((self.bvh2, n2), (self.bvh1, n1))
+                        ((self.mesh2, n2), (self.bvh1, n1))
                     };
                     lb = lb.max(shells.lower_bound_inner(turning, still, (t, h), self.delta));
                 }

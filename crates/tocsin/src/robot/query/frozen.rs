@@ -59,10 +59,10 @@ const APPROXIMATE: f64 = 0.25;
 
 /// The most pieces a span may need, at its start's clearance, for the frozen checks to be
 /// tried.
-const MAX_PIECES: f64 = 8.0;
+const MAX_PIECES: f64 = 64.0;
 
 /// The most frozen checks on one span: pieces shrink with the clearance as a contact nears.
-const MAX_CHECKS: usize = 24;
+const MAX_CHECKS: usize = 128;
 
 /// What the frozen checks of one pair share.
 struct Frozen<'s> {
