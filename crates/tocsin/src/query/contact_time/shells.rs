@@ -515,8 +515,15 @@ impl AxisShells {
         let node = &bvh.nodes()[index as usize];
         let r = if node.is_leaf() {
             let ax = &self.axis;
-            let tri = bvh.leaf_triangles()[node.leaf_position() as usize]
-                .map(|p| self.still.transform_point(p));
+            let (pose, t) = (
+                self.still,
+                &bvh.leaf_triangles()[node.leaf_position() as usize],
+            );
+            let tri = [
+                pose.transform_point(t[0]),
+                pose.transform_point(t[1]),
+                pose.transform_point(t[2]),
+            ];
             line_distance(&tri, ax.world_point, self.across.1)
         } else {
             let (l, r) = node.children(index);
@@ -541,10 +548,15 @@ impl AxisShells {
         }
         let node = &bvh.nodes()[index as usize];
         let r = if node.is_leaf() {
-            let ax = &self.axis;
-            let z = bvh.leaf_triangles()[node.leaf_position() as usize]
-                .map(|p| (self.still.transform_point(p) - ax.world_point).dot(ax.world_dir));
-            [z[0].min(z[1]).min(z[2]), z[0].max(z[1]).max(z[2])]
+            // Written out, the pose and the axis copied out of `self`: as an array `map` whose
+            // closure read them through it, the compiler stopped inlining it and reloaded them
+            // for every corner (a shaft in its bore 0.30 -> 0.39 ms).
+            let (pose, point, dir) = (self.still, self.axis.world_point, self.axis.world_dir);
+            let t = &bvh.leaf_triangles()[node.leaf_position() as usize];
+            let z0 = (pose.transform_point(t[0]) - point).dot(dir);
+            let z1 = (pose.transform_point(t[1]) - point).dot(dir);
+            let z2 = (pose.transform_point(t[2]) - point).dot(dir);
+            [z0.min(z1).min(z2), z0.max(z1).max(z2)]
         } else {
             let (l, r) = node.children(index);
             let (a, b) = (self.still_z_range(bvh, l), self.still_z_range(bvh, r));
