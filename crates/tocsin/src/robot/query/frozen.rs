@@ -27,9 +27,10 @@
 //! joint's points move [`DOMINANCE`] times faster than `P`'s points at the obstacle), where the
 //! link sweeps at least [`SWEEP`] clearances (else the chain's steps are long enough on their own),
 //! and where the span needs at most [`MAX_PIECES`] pieces at its start's clearance (each check
-//! starts its certificates' caches cold, about 1 ms on a 43K-triangle sensor). The checks only
-//! certify: every contact is still found by the chain's advancement, so the segment query's answers
-//! keep their meaning. An ordinary planner's edge moves every joint alike and never takes them.
+//! starts its certificates' caches cold but for the turning mesh's ranges, which the mesh keeps:
+//! 0.2 to 0.4 ms on a 43K-triangle sensor). The checks only certify: every contact is still found
+//! by the chain's advancement, so the segment query's answers keep their meaning. An ordinary
+//! planner's edge moves every joint alike and never takes them.
 
 use super::{Pair, Segment};
 use crate::math::Pose;
@@ -58,7 +59,9 @@ const SWEEP: f64 = 30.0;
 const APPROXIMATE: f64 = 0.25;
 
 /// The most pieces a span may need, at its start's clearance, for the frozen checks to be
-/// tried.
+/// tried. The UR5 wrist beside a board 0.15 mm away, `wrist_1` drifting 0.01 rad (24
+/// clearances): 8 left it to the chain alone (33 ms); 64 certify it in pieces (17 ms, 10.6
+/// with the turning mesh's ranges kept).
 const MAX_PIECES: f64 = 64.0;
 
 /// The most frozen checks on one span: pieces shrink with the clearance as a contact nears.
