@@ -50,8 +50,12 @@ pub struct TriMesh {
 pub(crate) struct AxisMemo(std::sync::Mutex<Option<AxisCorners>>);
 
 /// A key (the bits of the axis's point, direction and the query's point along it) and the
-/// per-leaf and per-run ranges worked out about it.
-pub(crate) type AxisCorners = ([u64; 7], std::sync::Arc<[Vec<[f64; 4]>; 2]>);
+/// ranges worked out about it.
+pub(crate) type AxisCorners = ([u64; 7], std::sync::Arc<AxisRanges>);
+
+/// Corner ranges about an axis (largest distance from it, the axial range, largest distance
+/// from a point on it), per leaf position and per run of leaves.
+pub(crate) type AxisRanges = [Vec<[f64; 4]>; 2];
 
 impl Clone for AxisMemo {
     fn clone(&self) -> Self {
@@ -64,8 +68,8 @@ impl AxisMemo {
     pub(crate) fn get_or(
         &self,
         key: [u64; 7],
-        work: impl FnOnce() -> [Vec<[f64; 4]>; 2],
-    ) -> std::sync::Arc<[Vec<[f64; 4]>; 2]> {
+        work: impl FnOnce() -> AxisRanges,
+    ) -> std::sync::Arc<AxisRanges> {
         if let Ok(kept) = self.0.lock() {
             if let Some((k, r)) = kept.as_ref() {
                 if *k == key {

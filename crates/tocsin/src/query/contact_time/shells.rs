@@ -34,6 +34,7 @@ use super::helix::{Direction, Helix, Ranges};
 use super::quotient::Quotient;
 use crate::bvh::{Bvh, Rss};
 use crate::math::{Pose, Vec3};
+use crate::mesh::AxisRanges;
 use crate::motion::{FixedAxis, Motion};
 use crate::query::distance::distance_triangle_triangle;
 use crate::TriMesh;
@@ -54,7 +55,7 @@ pub(crate) struct AxisShells {
     corners: std::cell::RefCell<std::collections::HashMap<u32, [f64; 4]>>,
     /// The same ranges over each leaf's triangle and over each run of [`RUN`] leaves (by leaf
     /// position), worked out together on first use, from which a node's are merged.
-    leaf_corners: std::cell::OnceCell<std::sync::Arc<[CornerRanges; 2]>>,
+    leaf_corners: std::cell::OnceCell<std::sync::Arc<AxisRanges>>,
     /// A turning node's meridian direction (its volume's normal, [`Meridian::of_normal`]) and
     /// the exact range of `h` over its triangles (each triangle's own tangent form), computed
     /// on first use; `None` where the normal has no meridian part.
@@ -310,9 +311,6 @@ fn sphere(c: Vec3, e0: Vec3, e1: Vec3, l: [f64; 2], r: f64, o: Vec3) -> Range {
 /// turn by the helical certificates: the slide is rounding.
 const SLIDE_RESOLUTION: f64 = 1e-12;
 
-/// Corner ranges ([`merged`]) of a run of leaves or nodes.
-type CornerRanges = Vec<[f64; 4]>;
-
 /// Leaves per run whose corner ranges are kept merged ([`AxisShells::turning_corners`]).
 const RUN: usize = 32;
 
@@ -406,7 +404,7 @@ impl AxisShells {
 
     /// The per-leaf and per-run corner ranges of the turning mesh about this axis
     /// ([`Self::turning_corners`]).
-    fn work_corners(&self, mesh: &TriMesh) -> [CornerRanges; 2] {
+    fn work_corners(&self, mesh: &TriMesh) -> AxisRanges {
         let (ax, bvh) = (&self.axis, mesh.bvh());
         let o = ax.body_point + ax.body_dir * self.lambda;
         let vertices: Vec<[f64; 4]> = mesh
