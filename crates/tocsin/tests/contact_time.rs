@@ -1202,14 +1202,21 @@ fn turning_within_the_tolerance_band() {
     let (n, delta) = (32usize, 2e-4);
     let still = Motion::stationary(Pose::IDENTITY);
     let shaft = tube(1.0, 4.0, n, 4);
-    let spin = Motion::turn(Pose::IDENTITY, Vec3::ZERO, Vec3::Z * (3.0 * std::f64::consts::PI))
-        .unwrap();
+    let spin = Motion::turn(
+        Pose::IDENTITY,
+        Vec3::ZERO,
+        Vec3::Z * (3.0 * std::f64::consts::PI),
+    )
+    .unwrap();
     let half = std::f64::consts::PI / n as f64;
     for c in [0.3, 0.55, 0.8, 1.05, 1.3] {
         // The bore's faces lie at its corners' radius times cos(half).
         let bore = tube((1.0 + c * delta) / half.cos(), 6.0, n, 4);
         let label = format!("shaft in a bore {c} tolerances clear");
-        for (m1, mo1, m2, mo2) in [(&shaft, &spin, &bore, &still), (&bore, &still, &shaft, &spin)] {
+        for (m1, mo1, m2, mo2) in [
+            (&shaft, &spin, &bore, &still),
+            (&bore, &still, &shaft, &spin),
+        ] {
             let hit = check(m1, mo1, m2, mo2, Some(delta), &label);
             if c < 0.5 {
                 assert!(hit, "{label}: no contact");

@@ -1002,3 +1002,42 @@ fn a_key_passing_a_bump_while_its_bore_drifts() {
         "{contacts} contacts, {free} free"
     );
 }
+
+/// A plain 32-sided shaft spinning half a turn in its bore, whose faces clear its corners by
+/// 0.3 to 1.3 tolerances (20 um), on a lever that swings 1e-5 rad (the bore drifts 3 um across
+/// the clearance), and 1e-4 rad where the drift closes it. Clear by 1.05 to 1.3 tolerances,
+/// the frozen checks' rotation certificates, which asked for the whole tolerance, could not
+/// settle the corners passing the faces; the checks handed the pair to the chain, which pays
+/// the spin's tangential speed on every step and stopped at its 1,000-iteration cap (an
+/// error). The answers go against the oracle.
+#[test]
+fn a_shaft_spinning_within_the_tolerance_band_while_its_bore_drifts() {
+    use std::f64::consts::PI;
+    let dir = scratch("band");
+    let (r, n, tol) = (0.05, 32, 2e-5);
+    let half = PI / n as f64;
+    let shaft = tocsin::mesh::revolved(|_, _| r, 0.2, n, 2).unwrap();
+    let robot = shaft_on_a_lever(&dir, &shaft);
+    let mut contacts = 0;
+    for (clear, swing) in [
+        (0.3, 1e-5),
+        (0.8, 1e-5),
+        (1.05, 1e-5),
+        (1.3, 1e-5),
+        (1.05, 1e-4),
+    ] {
+        let bore_r = (r + clear * tol) / half.cos();
+        let bore = tocsin::mesh::revolved(move |_, _| bore_r, 0.3, n, 3).unwrap();
+        let mut scene = Scene::new();
+        scene.add(
+            "bore",
+            Arc::new(bore),
+            Pose::from_translation(Vec3::new(0.3, 0.0, 0.0)),
+        );
+        let case = format!("bore {clear} tolerances clear, swing {swing}");
+        let edge = (&[0.0, 0.0][..], &[swing, -PI][..]);
+        contacts += check_edge_within(&robot, edge, &scene, Some(tol), &case).is_some() as usize;
+    }
+    // The corners come within 0.3 tolerances, and the larger swing closes the clearance.
+    assert!(contacts >= 2, "{contacts} contacts");
+}
