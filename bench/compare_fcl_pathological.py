@@ -8,6 +8,8 @@ median over ordinary passes for scale.
   sides (2K each), whose corners come within 1.65 tolerances of the bore's faces;
 - tapered shaft: a shaft tapering from radius 1 to 0.5 (4K) turning 180 degrees in a bore of
   the same taper 0.004 wider (4K);
+- band: a 32-sided shaft (256) turning 180 degrees in a bore (256) whose faces clear its
+  corners by 0.84 tolerances (the contract allows either answer) or 0.3 (a contact);
 - bolt: a bolt with a sinusoidal thread (pitch 0.5, depth 0.1; 98K) screwed 170 degrees along
   its thread into a nut 0.01 wider (32K);
 - slivers: a knot of 30 x 600 rings (150:1 triangles) on the issue's interp pass;
@@ -28,6 +30,10 @@ allows); the wrist alone with the board 5 cm away. tocsin's `Robot.time_of_conta
 101 states (a 1% resolution, FCL's naive solver's 100 samples), on the same triangles and pairs
 (`robot_mbm.Pinocchio`).
 
+A third table (tocsin only) spins a shaft one and a half turns on a lever that swings 1e-5 or
+1e-4 rad, its bore an obstacle that drifts across the clearance (a URDF written here): a plain
+shaft 1.05 tolerances clear, and a keyed one past a bump of the bore 1.15 tolerances away.
+
 Each library runs a loop over a case's queries (one query, or the 16 passes), the loops taking
 turns for `--repeats` rounds (`_common.sweeps`; a loop whose first round had a call over 20 ms
 is timed once); a case's time is the median over its queries of their rounds' medians.
@@ -36,7 +42,9 @@ Usage: python bench/compare_fcl_pathological.py [--repeats N] [--out FILE]
 """
 
 import argparse
+import os
 import statistics
+import tempfile
 
 import numpy as np
 
@@ -97,6 +105,19 @@ def cases():
         [(np.eye(4), turn((0, 0, 1), 180))],
         still,
     )
+    # A 32-sided shaft turning half a turn in a bore whose faces clear its corners by 0.84
+    # tolerances (either answer allowed: the certificates prove it never within half the
+    # tolerance) and by 0.3 (a contact: the corners come onto the faces as it turns).
+    tol = 1e-3 * np.hypot(1.0, 2.0)  # the default: 1e-3 of the shaft's bounding radius
+    for c in (0.84, 0.3):
+        yield (
+            f"shaft in bore, 32 sides, corners {c:g} tolerances from the faces",
+            tube(1.0, 4.0, 32, 4),
+            tube((1.0 + c * tol) / np.cos(np.pi / 32), 6.0, 32, 4),
+            "screw",
+            [(np.eye(4), turn((0, 0, 1), 180))],
+            still,
+        )
     # A bolt (sinusoidal thread: pitch 0.5, depth 0.1) screwed 170 degrees along its thread
     # into a nut 0.01 wider (not 180: a half turn's sense, and so the thread's hand, would be
     # rounding's choice).
@@ -175,6 +196,84 @@ def wrist_cases():
         both[3] += drift
         yield f"the same, wrist_1 moving {drift:g} rad too", robot, res, both, *board(1.5e-4)
     yield "UR5 wrist turning 179 deg, board 5 cm away", robot, res, turn, *board(0.05)
+
+
+LEVER_URDF = """<robot name="lever">
+  <link name="base"/>
+  <link name="lever"/>
+  <link name="shaft"><collision><geometry><mesh filename="{mesh}"/></geometry></collision></link>
+  <joint name="swing" type="revolute"><parent link="base"/><child link="lever"/>
+    <origin xyz="0 0 0"/><axis xyz="0 0 1"/><limit lower="-3" upper="3" effort="1" velocity="1"/></joint>
+  <joint name="spin" type="continuous"><parent link="lever"/><child link="shaft"/>
+    <origin xyz="0.3 0 0"/><axis xyz="0 0 1"/></joint>
+</robot>"""
+
+LEVER_TOL = 2e-5
+
+
+def write_obj(path, mesh):
+    v, f = mesh.vertices, mesh.triangles
+    with open(path, "w") as out:
+        out.writelines(f"v {float(x)!r} {float(y)!r} {float(z)!r}\n" for x, y, z in v)
+        out.writelines(f"f {a + 1} {b + 1} {c + 1}\n" for a, b, c in f)
+
+
+def lever_cases(tmp):
+    """(name, robot, q1, scene): a shaft (radius 0.05, 64 sides) spun one and a half turns
+    backwards by the last joint of a lever that swings a little about the base (its bore, an
+    obstacle, drifts across the clearance): plain in a bore 1.05 tolerances (20 um) clear of its
+    corners, and keyed (radius 0.06 over its upper part, 0.3 rad wide) past a bump of the
+    bore's groove (0.4 rad wide) 1.15 tolerances away. Both are clear."""
+    r, n = 0.05, 64
+    half = np.pi / n
+    for keyed in (False, True):
+        key = (lambda a, z: np.where((z >= 0.05) & (a < 0.3), r + 0.01, r)) if keyed else (lambda a, z: np.full_like(a, r))
+        shaft = revolved(key, 0.2, n, 8)
+        path = os.path.join(tmp, f"shaft{int(keyed)}.obj")
+        write_obj(path, shaft)
+        robot = tocsin.Robot.from_urdf_string(LEVER_URDF.format(mesh=path))
+        if keyed:
+            bump = (r + 0.01 + 1.15 * LEVER_TOL) / np.cos(half)
+            bore = revolved(
+                lambda a, z: np.where(z <= 0.0, r * 1.005 / np.cos(half), np.where(np.abs(a - 2.1) < 0.2, bump, 0.07)),
+                0.3,
+                n,
+                12,
+            )
+            what = "keyed shaft past a bump 1.15 tolerances away"
+        else:
+            bore = tube((r + 1.05 * LEVER_TOL) / np.cos(half), 0.3, n, 12)
+            what = "shaft in a bore 1.05 tolerances clear"
+        scene = tocsin.Scene()
+        scene.add("bore", bore, pose(np.eye(3), [0.3, 0.0, 0.0]))
+        for swing in (1e-5, 1e-4):
+            yield f"{what}, lever swinging {swing:g} rad", robot, np.array([swing, -3 * np.pi]), scene
+
+
+def lever_rows(repeats):
+    rows = []
+    with tempfile.TemporaryDirectory() as tmp:
+        for name, robot, q1, scene in lever_cases(tmp):
+            q0 = np.zeros(2)
+
+            def answer(call):
+                try:
+                    return call(q0, q1, scene, tolerance=LEVER_TOL)
+                except tocsin.TocsinError as e:  # the session before this table's: the cap
+                    return type(e).__name__
+
+            times, answers = sweeps(
+                {
+                    "toc": [lambda: answer(robot.time_of_contact)],
+                    "free": [lambda: answer(robot.path_is_free)],
+                },
+                rounds=repeats,
+            )
+            toc = answers["toc"][0]
+            what = "free" if toc is None else toc if isinstance(toc, str) else f"t = {toc.time:.6f}"
+            rows.append((name, times["toc"][0], times["free"][0], what, answers["free"][0]))
+            print(rows[-1], flush=True)
+    return rows
 
 
 def quaternion(r):
@@ -268,6 +367,14 @@ def main():
     ]
     for name, a, b, c, what, free, theirs in wrist_rows(args.repeats):
         lines.append(f"| {name} | {a * 1e3:.2f} | {b * 1e3:.2f} | {c * 1e3:.2f} | {what} | {free} | {theirs} |")
+    lines += [
+        "",
+        f"| lever robot case (tolerance {LEVER_TOL:g}) | tocsin time_of_contact (ms) | tocsin path_is_free (ms) "
+        "| tocsin's answer | path_is_free |",
+        "|---|---:|---:|---|---|",
+    ]
+    for name, a, b, what, free in lever_rows(args.repeats):
+        lines.append(f"| {name} | {a * 1e3:.2f} | {b * 1e3:.2f} | {what} | {free} |")
     write(args.out, "\n".join(lines))
 
 
