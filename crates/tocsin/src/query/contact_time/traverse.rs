@@ -1160,24 +1160,54 @@ mod tests {
     use rand::{Rng, SeedableRng};
     use rand_chacha::ChaCha8Rng;
 
+    /// A random rigid pose: an axis, an angle up to 3 rad, a translation up to 3.
+    fn random_pose(rng: &mut ChaCha8Rng) -> Pose {
+        Pose::from_axis_angle(
+            unit(rng),
+            rng.random_range(-3.0..3.0),
+            unit(rng) * rng.random_range(0.0..3.0),
+        )
+    }
+
+    /// A random window `[t, t + h]` of `motion`, its rotation at `t` and its kinematics read in
+    /// the body's own frame, as the search reads mesh 1.
+    fn random_window(rng: &mut ChaCha8Rng, motion: &Motion) -> (f64, f64, Mat3, Kinematics) {
+        let t = rng.random_range(0.0..0.9);
+        let h = rng.random_range(0.001..(1.0 - t));
+        let rot = motion.pose_at(t).rotation;
+        (t, h, rot, Kinematics::new(motion, &rot.transpose()))
+    }
+
+    /// Asserts that the body point `p`'s true speed along the world direction `n` (forward
+    /// differences of the motion's poses) at a random time of `[t, t + h]` is within `bound`.
+    fn assert_within_bound(
+        rng: &mut ChaCha8Rng,
+        motion: &Motion,
+        (t, h): (f64, f64),
+        (n, p): (Vec3, Vec3),
+        bound: f64,
+        case: usize,
+    ) {
+        let s = t + h * rng.random_range(0.0..1.0);
+        let eps = 1e-7;
+        let speed = n
+            .dot(motion.pose_at(s + eps).transform_point(p) - motion.pose_at(s).transform_point(p))
+            / eps;
+        assert!(
+            speed <= bound + 1e-4 * (1.0 + bound.abs()),
+            "case {case}: speed {speed} along n above the bound {bound}"
+        );
+    }
+
     /// The rigid bound the step search uses, with a volume's support in place of its bounding
-    /// radius, against the true speed (forward differences of the motion's poses) of points
-    /// on the corners, edges and inside of random swept rectangles, over random windows of
-    /// translations, interps and screws, read in the body's own frame as the search reads
-    /// mesh 1.
+    /// radius, against the true speed of points on the corners, edges and inside of random
+    /// swept rectangles, over random windows of translations, interps and screws.
     #[test]
     fn rigid_bound_holds_over_swept_rectangles() {
         let mut rng = ChaCha8Rng::seed_from_u64(31);
         let mut checked = 0;
         for case in 0..600 {
-            let pose = |rng: &mut ChaCha8Rng| {
-                Pose::from_axis_angle(
-                    unit(rng),
-                    rng.random_range(-3.0..3.0),
-                    unit(rng) * rng.random_range(0.0..3.0),
-                )
-            };
-            let (a, b) = (pose(&mut rng), pose(&mut rng));
+            let (a, b) = (random_pose(&mut rng), random_pose(&mut rng));
             let c = unit(&mut rng) * rng.random_range(0.0..1.5);
             let motion = match case % 3 {
                 0 => Motion::translation(
@@ -1191,10 +1221,7 @@ mod tests {
                 _ => Motion::screw(a, b),
             }
             .expect("motion");
-            let t = rng.random_range(0.0..0.9);
-            let h = rng.random_range(0.001..(1.0 - t));
-            let rot = motion.pose_at(t).rotation;
-            let kin = Kinematics::new(&motion, &rot.transpose());
+            let (t, h, rot, kin) = random_window(&mut rng, &motion);
             // The volume, body frame.
             let center = unit(&mut rng) * rng.random_range(0.0..2.0);
             let e1 = unit(&mut rng);
@@ -1219,19 +1246,9 @@ mod tests {
                 set.rho,
                 h,
             );
-            let n = rot * m;
             for _ in 0..30 {
                 let p = rss_point(&mut rng, center, (e1, e2), (h1, h2), r);
-                let s = t + h * rng.random_range(0.0..1.0);
-                let eps = 1e-7;
-                let speed = n.dot(
-                    motion.pose_at(s + eps).transform_point(p)
-                        - motion.pose_at(s).transform_point(p),
-                ) / eps;
-                assert!(
-                    speed <= bound + 1e-4 * (1.0 + bound.abs()),
-                    "case {case}: speed {speed} along n above the bound {bound}"
-                );
+                assert_within_bound(&mut rng, &motion, (t, h), (rot * m, p), bound, case);
                 checked += 1;
             }
         }
@@ -1240,20 +1257,14 @@ mod tests {
 
     /// The same bound with a triangle's reach over its corners ([`triangle_reach`], what
     /// [`StepSearch::step_triangles`] charges), against the true speed of points on the
-    /// corners, edges and inside of random triangles up to 100 times longer than wide.
+    /// corners, edges and inside of random triangles up to 100 times longer than wide, over
+    /// random windows of interps, screws and turns.
     #[test]
     fn rigid_bound_holds_over_long_triangles() {
         let mut rng = ChaCha8Rng::seed_from_u64(32);
         let mut checked = 0;
         for case in 0..600 {
-            let pose = |rng: &mut ChaCha8Rng| {
-                Pose::from_axis_angle(
-                    unit(rng),
-                    rng.random_range(-3.0..3.0),
-                    unit(rng) * rng.random_range(0.0..3.0),
-                )
-            };
-            let (a, b) = (pose(&mut rng), pose(&mut rng));
+            let (a, b) = (random_pose(&mut rng), random_pose(&mut rng));
             let motion = match case % 3 {
                 0 => Motion::interp(a, b, unit(&mut rng) * rng.random_range(0.0..1.5)),
                 1 => Motion::screw(a, b),
@@ -1264,10 +1275,7 @@ mod tests {
                 ),
             }
             .expect("motion");
-            let t = rng.random_range(0.0..0.9);
-            let h = rng.random_range(0.001..(1.0 - t));
-            let rot = motion.pose_at(t).rotation;
-            let kin = Kinematics::new(&motion, &rot.transpose());
+            let (t, h, rot, kin) = random_window(&mut rng, &motion);
             // A long triangle: a base corner, one far along `u`, one a little across.
             let base = unit(&mut rng) * rng.random_range(0.0..2.0);
             let u = unit(&mut rng);
@@ -1288,7 +1296,6 @@ mod tests {
                 set.rho,
                 h,
             );
-            let n = rot * m;
             for k in 0..30 {
                 let (x, y) = (rng.random_range(0.0..1.0), rng.random_range(0.0..1.0));
                 let (x, y) = if x + y > 1.0 {
@@ -1301,16 +1308,7 @@ mod tests {
                     3..=5 => tri[k - 3].lerp(tri[(k - 2) % 3], x),
                     _ => tri[0] + (tri[1] - tri[0]) * x + (tri[2] - tri[0]) * y,
                 };
-                let s = t + h * rng.random_range(0.0..1.0);
-                let eps = 1e-7;
-                let speed = n.dot(
-                    motion.pose_at(s + eps).transform_point(p)
-                        - motion.pose_at(s).transform_point(p),
-                ) / eps;
-                assert!(
-                    speed <= bound + 1e-4 * (1.0 + bound.abs()),
-                    "case {case}: speed {speed} along n above the bound {bound}"
-                );
+                assert_within_bound(&mut rng, &motion, (t, h), (rot * m, p), bound, case);
                 checked += 1;
             }
         }
