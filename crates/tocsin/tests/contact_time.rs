@@ -1233,6 +1233,72 @@ fn turning_within_the_tolerance_band() {
     }
 }
 
+/// Close fits turning at random tolerances around their closest approach: a polygonal shaft
+/// (12 to 24 sides) in a bore, a taper in its bore, a ball in a socket, each turning 90 to 270
+/// degrees about its axis (tilted up to 0.2 rad for the ball), at a tolerance that puts the
+/// sampled closest approach between 0.3 and 1.4 tolerances. Below half a tolerance a contact
+/// is required, above the tolerance none is allowed, and in between the certificates (which
+/// stop at half the tolerance) may answer either; `check` holds each against the oracle. The
+/// certificates' give-up and their half-tolerance threshold change only step lengths: a
+/// certificate claiming too much would miss a contact here.
+#[test]
+fn close_fits_at_random_tolerances_against_sampling() {
+    let mut rng = rng(4701);
+    let still = Motion::stationary(Pose::IDENTITY);
+    let (mut contacts, mut band) = (0, 0);
+    for case in 0..12 {
+        let sides = rng.random_range(12..=24);
+        // Beyond the facets' sagitta (a ball's facets sink by about twice it), so that the
+        // corners pass the faces without touching.
+        let sagitta = 1.0 - (std::f64::consts::PI / sides as f64).cos();
+        let clear = 3.0 * sagitta + rng.random_range(0.001..0.01);
+        let (turning, fixed, axis) = match case % 3 {
+            0 => (
+                tube(1.0, 3.0, sides, 3),
+                tube(1.0 + clear, 4.0, sides, 3),
+                Vec3::Z,
+            ),
+            1 => {
+                let taper = |c: f64| {
+                    mesh::revolved(move |_, z| 0.75 + c - 0.25 * z, 2.0, sides, 3).unwrap()
+                };
+                (taper(0.0), taper(clear), Vec3::Z)
+            }
+            _ => {
+                let tilt = Vec3::new(rng.random_range(-0.2..0.2), 0.0, 1.0);
+                (
+                    mesh::sphere(1.0, sides / 2, sides).unwrap(),
+                    mesh::sphere(1.0 + clear, sides / 2, sides).unwrap(),
+                    tilt,
+                )
+            }
+        };
+        let degrees: f64 = rng.random_range(90.0..270.0);
+        let mo = Motion::turn(
+            Pose::IDENTITY,
+            Vec3::ZERO,
+            axis.normalize() * degrees.to_radians(),
+        )
+        .unwrap();
+        let closest = oracle(&turning, &mo, &fixed, &still).closest;
+        assert!(closest > 0.0, "case {case}: the fit collides");
+        let at = rng.random_range(0.3..1.4);
+        let tolerance = closest / at;
+        let label =
+            format!("case {case}: {sides} sides, clearance {clear}, closest {at} tolerances");
+        let hit = check(&turning, &mo, &fixed, &still, Some(tolerance), &label);
+        if at < 0.5 {
+            assert!(hit, "{label}: no contact");
+        }
+        contacts += hit as usize;
+        band += (0.5..=1.0).contains(&at) as usize;
+    }
+    assert!(
+        contacts >= 3 && band >= 3,
+        "{contacts} contacts, {band} in the band"
+    );
+}
+
 /// A mesh keeps the corner ranges the rotation certificates last worked out about an axis,
 /// for the next query about the same one: queries about a few axes, interleaved on the same
 /// meshes, give what the same queries give on fresh copies (which keep nothing).
