@@ -963,7 +963,15 @@ fn a_key_passing_a_bump_while_its_bore_drifts() {
     .unwrap();
     let robot = shaft_on_a_lever(&dir, &shaft);
     let (mut contacts, mut free) = (0, 0);
-    for (bump_at, pass) in [(1.7, 1.2e-4), (2.1, 6e-5), (2.1, 1.2e-4)] {
+    for (bump_at, pass, swings) in [
+        (1.7, 1.2e-4, &[6e-4, 1e-3][..]),
+        (2.1, 6e-5, &[6e-4, 1e-3]),
+        (2.1, 1.2e-4, &[6e-4, 1e-3]),
+        // 1.15 tolerances, the arm drifting 3 um: the checks' certificates asked for the whole
+        // tolerance and, with the chain's slacks, their 32 iterations ran out; the chain then
+        // stopped at its cap (an error; forty-seventh session).
+        (2.1, 2.3e-5, &[1e-5]),
+    ] {
         // The bump's faces, between its corners, lie `pass` beyond the key's corners.
         let bump = (r + 0.01 + pass) / half.cos();
         let bore = tocsin::mesh::revolved(
@@ -987,7 +995,7 @@ fn a_key_passing_a_bump_while_its_bore_drifts() {
             Arc::new(bore),
             Pose::from_translation(Vec3::new(0.3, 0.0, 0.0)),
         );
-        for swing in [6e-4, 1e-3] {
+        for &swing in swings {
             let case = format!("bump at {bump_at}, pass {pass}, swing {swing}");
             let edge = (&[0.0, 0.0][..], &[swing, -3.0 * PI][..]);
             match check_edge_within(&robot, edge, &scene, Some(2e-5), &case) {
