@@ -519,10 +519,11 @@ impl<'a> StepSearch<'a> {
             Some(shells) if self.shells_on && step * (1.0 + self.slack) < self.best => {
                 let (t, h, need) = (self.t, self.window, self.certified_apart());
                 let (tries, successes) = self.shell_tries.get();
-                self.shell_tries.set((tries + 1, successes));
+                self.shell_tries.set((tries.saturating_add(1), successes));
                 let ranges = ((self.mesh1, a.leaf_range()), (self.mesh2, b.leaf_range()));
                 if shells.resolved(ranges.0, ranges.1, self.delta) {
-                    self.shell_tries.set((tries + 1, successes + 1));
+                    self.shell_tries
+                        .set((tries.saturating_add(1), successes.saturating_add(1)));
                     return f64::INFINITY;
                 }
                 let mut lb = shells.lower_bound(&a.rss, &b.rss, (t, h), need);
@@ -540,7 +541,8 @@ impl<'a> StepSearch<'a> {
                     lb = lb.max(shells.lower_bound_triangles(t1, t2, (t, h), need));
                 }
                 if lb > need {
-                    self.shell_tries.set((tries + 1, successes + 1));
+                    self.shell_tries
+                        .set((tries.saturating_add(1), successes.saturating_add(1)));
                     f64::INFINITY
                 } else {
                     step
@@ -572,7 +574,7 @@ impl<'a> StepSearch<'a> {
     /// change: the directional bound is safe on its own.
     fn give_up_shells(&mut self) {
         let (tries, successes) = self.shell_tries.get();
-        if self.shells_on && successes * 1000 < tries && tries >= SHELLS_GIVE_UP {
+        if self.shells_on && successes.saturating_mul(1000) < tries && tries >= SHELLS_GIVE_UP {
             self.shells_on = false;
             self.shells_given_up = true;
         }
