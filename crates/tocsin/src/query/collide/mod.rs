@@ -314,25 +314,35 @@ mod tests {
         out
     }
 
+    /// The two knots both tests walk past each other.
+    fn two_knots() -> (TriMesh, TriMesh) {
+        (
+            mesh::torus_knot(60, 6).unwrap_or_else(|e| unreachable!("{e}")),
+            mesh::torus_knot(40, 5).unwrap_or_else(|e| unreachable!("{e}")),
+        )
+    }
+
+    /// A random unit vector (`X` for the rare draw too short to normalise).
+    fn unit(rng: &mut ChaCha8Rng) -> Vec3 {
+        Vec3::new(
+            rng.random_range(-1.0..1.0),
+            rng.random_range(-1.0..1.0),
+            rng.random_range(-1.0..1.0),
+        )
+        .try_normalize()
+        .unwrap_or(Vec3::X)
+    }
+
     /// The probes' budgeted test against brute force, on knots at random poses: with no budget
     /// to speak of, the same verdict; with a small one, a collision only where brute force
     /// finds one.
     #[test]
     fn budgeted_test_finds_only_real_collisions() {
         let mut rng = ChaCha8Rng::seed_from_u64(78);
-        let (a, b) = (
-            mesh::torus_knot(60, 6).unwrap_or_else(|e| unreachable!("{e}")),
-            mesh::torus_knot(40, 5).unwrap_or_else(|e| unreachable!("{e}")),
-        );
+        let (a, b) = two_knots();
         let (mut hits, mut stopped) = (0, 0);
         for k in 0..300 {
-            let axis = Vec3::new(
-                rng.random_range(-1.0..1.0),
-                rng.random_range(-1.0..1.0),
-                rng.random_range(-1.0..1.0),
-            )
-            .try_normalize()
-            .unwrap_or(Vec3::X);
+            let axis = unit(&mut rng);
             let offset = axis * rng.random_range(0.0..8.0);
             let p2 = Pose::from_axis_angle(axis.any_orthonormal_vector(), 0.1 * k as f64, offset);
             let truth = !brute(&a, &Pose::IDENTITY, &b, &p2).is_empty();
@@ -364,19 +374,7 @@ mod tests {
     #[test]
     fn hinted_search_matches_brute_force() {
         let mut rng = ChaCha8Rng::seed_from_u64(77);
-        let (a, b) = (
-            mesh::torus_knot(60, 6).unwrap_or_else(|e| unreachable!("{e}")),
-            mesh::torus_knot(40, 5).unwrap_or_else(|e| unreachable!("{e}")),
-        );
-        let unit = |rng: &mut ChaCha8Rng| {
-            Vec3::new(
-                rng.random_range(-1.0..1.0),
-                rng.random_range(-1.0..1.0),
-                rng.random_range(-1.0..1.0),
-            )
-            .try_normalize()
-            .unwrap_or(Vec3::X)
-        };
+        let (a, b) = two_knots();
         let (n1, n2) = (a.num_triangles() as u32, b.num_triangles() as u32);
         let (mut hits, mut free) = (0, 0);
         // 40 steps from the same centre to well apart.
