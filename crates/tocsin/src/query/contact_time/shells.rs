@@ -123,7 +123,13 @@ fn extent(e0: Vec3, e1: Vec3, l0: f64, l1: f64, r: f64, v: Vec3) -> f64 {
 fn radial_frame(x: Vec3, p: Vec3, d: Vec3) -> (f64, f64, Vec3) {
     let rel = x - p;
     let z = rel.dot(d);
-    let radial = rel - d * z;
+    // The part across the line as `d x (rel x d)`, not `rel - d z`: where `x` lies on the line
+    // (a shaft's node centred on its axis), the difference left a rounding residue along `d`
+    // (`d` a unit to within an ulp), and the unit from it pointed along the axis; the ranges
+    // across it then lost the volume's width (a node 0.0427 from the axis at most was
+    // certified 0.0354 from it, and a contact was missed). The cross products leave the part
+    // across exact to its own rounding, and nothing where `x` is on the line.
+    let radial = d.cross(rel.cross(d)) / d.length_squared();
     let k = radial.length();
     let u = if k > 0.0 {
         radial / k
@@ -1088,6 +1094,58 @@ mod tests {
             );
             let label = format!("case {case}");
             assert_below_sampled(lb, &motion, (&t1, &t2), 64, &label);
+        }
+    }
+
+    /// A volume whose centre lies on the line (to rounding) keeps its width across it: every
+    /// sampled point's distance from the line and axial coordinate lie in the ranges. The
+    /// first case is the one a robot's spinning barrel met (its axis a unit to within an ulp,
+    /// a node centred on it): the ranges were taken across a unit that pointed along the line,
+    /// 0.0354 from it at most for a node reaching 0.0427, and a contact was missed.
+    #[test]
+    fn a_volume_centred_on_the_line_keeps_its_width_across_it() {
+        use crate::motion::sampling::{rss_point, unit};
+        let mut rng = ChaCha8Rng::seed_from_u64(4802);
+        for case in 0..400 {
+            let (p, d, c, e0, e1, l, r) = if case == 0 {
+                let e0 = Vec3::new(0.9135454576426006, -0.4067366430758004, 0.0);
+                (
+                    Vec3::ZERO,
+                    Vec3::new(0.0, 0.0, 0.9999999999999999),
+                    Vec3::new(0.0, 0.0, -0.07500000000000001),
+                    e0,
+                    Vec3::Z.cross(e0),
+                    [0.04270139768861504, 0.04246747496415584],
+                    0.025000000000001,
+                )
+            } else {
+                let (p, d) = (unit(&mut rng) * rng.random_range(0.0..2.0), unit(&mut rng));
+                let c = p + d * rng.random_range(-1.0..1.0);
+                let e0 = unit(&mut rng);
+                let e1 = e0.cross(unit(&mut rng)).normalize();
+                let size = [1e-3, 0.1, 1.0][case % 3];
+                let l = [size * rng.random::<f64>(), size * rng.random::<f64>()];
+                (p, d, c, e0, e1, l, size * 0.2 * rng.random::<f64>())
+            };
+            let (rho, z) = cylinder(c, e0, e1, l, r, p, d);
+            for _ in 0..400 {
+                let x = rss_point(&mut rng, c, (e0, e1), (l[0], l[1]), r);
+                let rel = x - p;
+                let (xz, xrho) = (rel.dot(d), rel.cross(d).length());
+                let slack = 1e-12 * (1.0 + rel.length());
+                assert!(
+                    xrho >= rho.lo - slack && xrho <= rho.hi + slack,
+                    "case {case}: distance {xrho} from the line outside [{}, {}]",
+                    rho.lo,
+                    rho.hi
+                );
+                assert!(
+                    xz >= z.lo - slack && xz <= z.hi + slack,
+                    "case {case}: axial {xz} outside [{}, {}]",
+                    z.lo,
+                    z.hi
+                );
+            }
         }
     }
 
