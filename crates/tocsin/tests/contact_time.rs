@@ -1233,6 +1233,60 @@ fn turning_within_the_tolerance_band() {
     }
 }
 
+/// A barrel (32 sides, radius `0.05 (1 + 0.03 sin 10z)`, so its faces widen along their length)
+/// turning 4.4 rad about its axis beside a long triangle whose edge passes its corners
+/// tangentially at height 0.08, slanted 0 to 0.4 rad, 0.3 to 1.3 tolerances (20 um) beyond
+/// them. The triangles' ranges over their whole length never certified the slanted edge, and
+/// the query crawled past each of the corners: at 1.04 tolerances it stopped at the
+/// 1,000-iteration cap (21 ms); the slabs (`shells.rs`, `slab_gap`) certify it, here within
+/// a cap of 30. Both orders of the bodies, against the oracle.
+#[test]
+fn a_barrel_turning_past_a_tangent_edge() {
+    let delta = 2e-5;
+    let radius = |z: f64| 0.05 * (1.0 + 0.03 * (10.0 * z).sin());
+    let barrel = tocsin::mesh::revolved(|_, z| radius(z), 0.2, 32, 4).unwrap();
+    let spin = Motion::turn(Pose::IDENTITY, Vec3::ZERO, Vec3::Z * 4.4).unwrap();
+    let still = Motion::stationary(Pose::IDENTITY);
+    // The corners' distance from the axis at height 0.08: along the straight corner edges
+    // between the rows at 0.05 and 0.1.
+    let f = (0.08 - 0.05) / 0.05;
+    let corner = radius(0.05) + f * (radius(0.1) - radius(0.05));
+    let (phi, mut contacts) = (0.3_f64, 0);
+    let radial = Vec3::new(phi.cos(), phi.sin(), 0.0);
+    for c in [0.3, 0.7, 1.04, 1.3] {
+        for slant in [0.0_f64, 0.2, 0.4] {
+            let centre = radial * (corner + c * delta) + Vec3::Z * 0.08;
+            let along = Vec3::new(-phi.sin(), phi.cos(), 0.0) * slant.cos() + Vec3::Z * slant.sin();
+            let far = radial * 0.4 + Vec3::Z * 0.18;
+            let edge = TriMesh::new(
+                vec![centre - along * 0.3, centre + along * 0.3, far],
+                vec![[0, 1, 2]],
+            )
+            .unwrap();
+            let label = format!("edge {c} tolerances away, slanted {slant}");
+            for (m1, mo1, m2, mo2) in [
+                (&barrel, &spin, &edge, &still),
+                (&edge, &still, &barrel, &spin),
+            ] {
+                contacts += usize::from(check(m1, mo1, m2, mo2, Some(delta), &label));
+                if c >= 1.0 {
+                    let capped = ContactOptions {
+                        tolerance: Some(delta),
+                        max_iterations: 30,
+                        ..Default::default()
+                    };
+                    let r = time_of_contact(m1, mo1, m2, mo2, &capped);
+                    assert!(r.is_ok(), "{label}: {r:?}");
+                }
+            }
+        }
+    }
+    assert!(
+        contacts >= 6,
+        "{contacts} contacts: at 0.3 tolerances each should be one"
+    );
+}
+
 /// Close fits turning at random tolerances around their closest approach: a polygonal shaft
 /// (12 to 24 sides) in a bore, a taper in its bore, a ball in a socket, each turning 90 to 270
 /// degrees about its axis (tilted up to 0.2 rad for the ball), at a tolerance that puts the
