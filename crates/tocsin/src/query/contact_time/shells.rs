@@ -120,26 +120,37 @@ fn extent(e0: Vec3, e1: Vec3, l0: f64, l1: f64, r: f64, v: Vec3) -> f64 {
 /// The point `x`'s axial coordinate along the line through `p` with unit direction `d`, its
 /// distance `k` from the line and the radial unit towards it (any unit across the line where
 /// `x` is on it).
+#[inline]
 fn radial_frame(x: Vec3, p: Vec3, d: Vec3) -> (f64, f64, Vec3) {
     let rel = x - p;
     let z = rel.dot(d);
     let mut radial = rel - d * z;
-    if radial.length_squared() <= 1e-12 * rel.length_squared() {
+    let mut k2 = radial.length_squared();
+    if k2 <= 1e-12 * (z * z + k2) {
         // Within a millionth of the distance from the line's point: the difference may be
         // mostly rounding along `d` (`d` a unit to within an ulp), and the unit from it would
         // point along the axis; the ranges across it then lost the volume's width (a node
         // 0.0427 from the axis at most was certified 0.0354 from it, and a contact was
         // missed). `d x (rel x d)` is the part across exact to its own rounding, and nothing
         // where `x` is on the line. (Everywhere, it made a tapered shaft's turn 10% slower.)
-        radial = d.cross(rel.cross(d));
+        radial = across_line(rel, d);
+        k2 = radial.length_squared();
     }
-    let k = radial.length();
+    let k = k2.sqrt();
     let u = if k > 0.0 {
         radial / k
     } else {
         any_orthogonal(d)
     };
     (z, k, u)
+}
+
+/// `d x (rel x d)`: the part of `rel` across the line along `d` ([`radial_frame`]'s rare case,
+/// kept out of its hot path).
+#[cold]
+#[inline(never)]
+fn across_line(rel: Vec3, d: Vec3) -> Vec3 {
+    d.cross(rel.cross(d))
 }
 
 /// A unit vector orthogonal to the unit `d`.
@@ -973,6 +984,15 @@ impl AxisShells {
             across(turning, ax.body_point, ax.body_dir, self.across.0),
             across(still, axis_point, ax.world_dir, self.across.1),
         );
+        // The hopeless test of `slab_bound` on the whole triangles first, without clipping:
+        // most pairs that reach here are about to touch.
+        let (rho_s, z_s) = nearest_to_axis(&pair.1, 0.5 * (z_t.lo + z_t.hi));
+        if (z_t.lo - w - slide..=z_t.hi + w + slide).contains(&z_s)
+            && rho_s - section_reach(&pair.0, z_s.clamp(z_t.lo, z_t.hi)) < w
+        {
+            // Not a certificate (ties within rounding chose the point): at most `need`.
+            return (rho_s - farthest(&pair.0)).min(need);
+        }
         slab_bound(&pair, (z_t.lo, z_t.hi, SLAB_DEPTH), (w, slide))
     }
 }
@@ -1012,10 +1032,17 @@ fn slab_bound(
     let Some((s, ns)) = clip_to_slab(still, (lo - w - slide, hi + w + slide)) else {
         return w;
     };
-    let rho_t = t[..nt].iter().fold(0.0_f64, |m, c| m.max(c[0].hypot(c[1])));
-    let q: [(f64, f64); 8] = s.map(|c| (c[0], c[1]));
-    let bound = w.min(polygon_origin_distance(&q[..ns]) - rho_t);
+    let (rho_s, z_s) = nearest_to_axis(&s[..ns], 0.5 * (lo + hi));
+    let bound = w.min(rho_s - farthest(&t[..nt]));
     if bound >= w || depth == 0 {
+        return bound;
+    }
+    // Hopeless: every slab whose widened range holds the still part's nearest point to the
+    // axis (at `z_s`; the slab holding `z_s` clamped to the range) meets the turning part's
+    // section there, so no halving certifies it. A pair about to touch (a shaft's corner
+    // coming onto its bore's face) stops here instead of halving 8 times: the 32-sided shaft
+    // 0.3 tolerances from its bore took 25 ms instead of 12.8 with the halvings.
+    if rho_s - section_reach(turning, z_s.clamp(lo, hi)) < w {
         return bound;
     }
     let mid = 0.5 * (lo + hi);
@@ -1025,6 +1052,34 @@ fn slab_bound(
         return bound;
     }
     slab_bound(&(*turning, *still), (mid, hi, depth - 1), (w, slide)).max(bound)
+}
+
+/// The largest distance from the axis (the third coordinate's line) over the corners.
+fn farthest(corners: &[[f64; 3]]) -> f64 {
+    corners
+        .iter()
+        .fold(0.0_f64, |m, c| m.max(c[0] * c[0] + c[1] * c[1]))
+        .sqrt()
+}
+
+/// The largest distance from the axis (the third coordinate's line) over the triangle's
+/// section at axial coordinate `z` (corners as `[x, y, z]`): over the points where its edges
+/// cross `z` (the section is a segment between two of them; the distance is convex); 0 where
+/// the triangle does not reach `z`.
+fn section_reach(tri: &[[f64; 3]; 3], z: f64) -> f64 {
+    let mut m2 = 0.0_f64;
+    for i in 0..3 {
+        let (a, b) = (tri[i], tri[(i + 1) % 3]);
+        if a[2] == z {
+            m2 = m2.max(a[0] * a[0] + a[1] * a[1]);
+        }
+        if (a[2] < z) != (b[2] < z) && a[2] != b[2] {
+            let f = (z - a[2]) / (b[2] - a[2]);
+            let (x, y) = (a[0] + f * (b[0] - a[0]), a[1] + f * (b[1] - a[1]));
+            m2 = m2.max(x * x + y * y);
+        }
+    }
+    m2.sqrt()
 }
 
 /// The triangle (corners as `[x, y, z]`) clipped to `lo <= z <= hi`: a convex polygon of up
@@ -1085,6 +1140,54 @@ fn polygon_origin_distance(q: &[(f64, f64)]) -> f64 {
     (0..n)
         .map(|i| segment(q[i], q[(i + 1) % n]))
         .fold(f64::INFINITY, f64::min)
+}
+
+/// The smallest distance from the axis (the third coordinate's line) over the convex polygon
+/// `poly` (corners as `[x, y, z]`, in order), and the axial coordinate of a point where it is
+/// reached, the nearest to `target` (a face parallel to the axis reaches it along a segment):
+/// on an edge at the parameter of its nearest point in projection (the projection is linear),
+/// ties within rounding spanning the range the point is taken in. Where the projection holds
+/// the origin, 0 and `target` clamped to the polygon's axial range (any point then does for
+/// [`slab_bound`], whose test fails with a distance of 0).
+fn nearest_to_axis(poly: &[[f64; 3]], target: f64) -> (f64, f64) {
+    let n = poly.len();
+    let cross = |a: &[f64; 3], b: &[f64; 3]| a[0] * b[1] - a[1] * b[0];
+    let (mut pos, mut neg) = (true, true);
+    let (mut zlo, mut zhi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for i in 0..n {
+        let c = cross(&poly[i], &poly[(i + 1) % n]);
+        pos &= c >= 0.0;
+        neg &= c <= 0.0;
+        zlo = zlo.min(poly[i][2]);
+        zhi = zhi.max(poly[i][2]);
+    }
+    if pos || neg {
+        return (0.0, target.clamp(zlo, zhi));
+    }
+    // Squared distances, one root at the end (`hypot` in the loop cost as much as the rest).
+    let (mut best, mut range) = (f64::INFINITY, (0.0, 0.0));
+    for i in 0..n {
+        let (a, b) = (poly[i], poly[(i + 1) % n]);
+        let (ex, ey) = (b[0] - a[0], b[1] - a[1]);
+        let len2 = ex * ex + ey * ey;
+        // An edge along the axis projects to a point: all of it is as near.
+        let (f0, f1) = if len2 > 0.0 {
+            let f = (-(a[0] * ex + a[1] * ey) / len2).clamp(0.0, 1.0);
+            (f, f)
+        } else {
+            (0.0, 1.0)
+        };
+        let (x, y) = (a[0] + f0 * ex, a[1] + f0 * ey);
+        let d2 = x * x + y * y;
+        let (za, zb) = (a[2] + f0 * (b[2] - a[2]), a[2] + f1 * (b[2] - a[2]));
+        let (za, zb) = (za.min(zb), za.max(zb));
+        if d2 < best * (1.0 - 1e-12) {
+            (best, range) = (d2, (za, zb));
+        } else if d2 <= best * (1.0 + 1e-12) {
+            range = (range.0.min(za), range.1.max(zb));
+        }
+    }
+    (best.sqrt(), target.clamp(range.0, range.1))
 }
 
 /// Two unit vectors spanning the plane across the unit `d`.
