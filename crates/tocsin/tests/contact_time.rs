@@ -21,6 +21,8 @@ struct Oracle {
     first_collision: Option<(f64, f64)>,
     /// Smallest sampled distance.
     closest: f64,
+    /// The sampled times and distances, up to the first sampled collision.
+    samples: Vec<(f64, f64)>,
 }
 
 fn oracle(m1: &TriMesh, mo1: &Motion, m2: &TriMesh, mo2: &Motion) -> Oracle {
@@ -38,14 +40,18 @@ fn oracle(m1: &TriMesh, mo1: &Motion, m2: &TriMesh, mo2: &Motion) -> Oracle {
     };
     let mut closest = f64::INFINITY;
     let mut prev = 0.0;
+    let mut samples = Vec::with_capacity(SAMPLES + 1);
     for i in 0..=SAMPLES {
         let t = i as f64 / SAMPLES as f64;
-        closest = closest.min(dist(t));
+        let d = dist(t);
+        closest = closest.min(d);
+        samples.push((t, d));
         if hit(t) {
             if i == 0 {
                 return Oracle {
                     first_collision: Some((0.0, 0.0)),
                     closest: 0.0,
+                    samples,
                 };
             }
             let (mut lo, mut hi) = (prev, t);
@@ -60,6 +66,7 @@ fn oracle(m1: &TriMesh, mo1: &Motion, m2: &TriMesh, mo2: &Motion) -> Oracle {
             return Oracle {
                 first_collision: Some((lo, hi)),
                 closest,
+                samples,
             };
         }
         prev = t;
@@ -67,6 +74,7 @@ fn oracle(m1: &TriMesh, mo1: &Motion, m2: &TriMesh, mo2: &Motion) -> Oracle {
     Oracle {
         first_collision: None,
         closest,
+        samples,
     }
 }
 
@@ -167,6 +175,18 @@ fn check(
                 "{label}: contact distance {} above delta {delta}",
                 c.distance
             );
+            // The contract before the answer: no sampled time closer than half the tolerance.
+            if let Some(&(t, d)) = o
+                .samples
+                .iter()
+                .find(|&&(t, d)| t < c.time && d < 0.5 * delta * (1.0 - 1e-9) - rounding)
+            {
+                panic!(
+                    "{label}: at t = {t} the distance {d} is under half the tolerance \
+                     ({delta} / 2), before the contact reported at {}",
+                    c.time
+                );
+            }
             if let Some((_, hi)) = first {
                 assert!(
                     c.time <= hi,
