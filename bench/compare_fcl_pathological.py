@@ -118,6 +118,20 @@ def cases():
             [(np.eye(4), turn((0, 0, 1), 180))],
             still,
         )
+    # A 32-sided barrel whose faces widen along their length (radius 0.05 (1 + 0.03 sin 10z))
+    # turning 170 degrees beside a long triangle whose edge, slanted 0.4 rad, passes its
+    # corners tangentially 1.04 tolerances away at height 0.08 (the triangles' ranges over
+    # their whole length never certified it; a robot's spinning barrel crawled to the cap).
+    radius = lambda a, z: 0.05 * (1 + 0.03 * np.sin(10 * z)) + 0 * a
+    barrel = revolved(radius, 0.2, 32, 4)
+    tol = 1e-3 * barrel.bounding_radius  # the default: the smaller mesh's
+    corner = radius(0, 0.05) + 0.6 * (radius(0, 0.1) - radius(0, 0.05))  # at 0.08, between rows
+    phi, slant = 0.3, 0.4
+    radial = np.array([np.cos(phi), np.sin(phi), 0.0])
+    centre = radial * (corner + 1.04 * tol) + [0, 0, 0.08]
+    along = np.array([-np.sin(phi), np.cos(phi), 0.0]) * np.cos(slant) + [0, 0, np.sin(slant)]
+    edge = tocsin.Mesh(np.array([centre - 0.3 * along, centre + 0.3 * along, radial * 0.4 + [0, 0, 0.18]]), np.array([[0, 1, 2]]))
+    yield "barrel past a tangent edge 1.04 tolerances away", barrel, edge, "screw", [(np.eye(4), turn((0, 0, 1), 170))], still
     # A bolt (sinusoidal thread: pitch 0.5, depth 0.1) screwed 170 degrees along its thread
     # into a nut 0.01 wider (not 180: a half turn's sense, and so the thread's hand, would be
     # rounding's choice).
