@@ -1210,6 +1210,22 @@ fn turning_in_close_fits_against_sampling() {
     }
 }
 
+/// Asserts that the query at tolerance `delta` answers within `cap` iterations.
+fn answers_within(
+    (m1, mo1, m2, mo2): (&TriMesh, &Motion, &TriMesh, &Motion),
+    delta: f64,
+    cap: usize,
+    label: &str,
+) {
+    let capped = ContactOptions {
+        tolerance: Some(delta),
+        max_iterations: cap,
+        ..Default::default()
+    };
+    let r = time_of_contact(m1, mo1, m2, mo2, &capped);
+    assert!(r.is_ok(), "{label}: {r:?}");
+}
+
 /// A 32-sided shaft turning one and a half turns in its bore, whose faces clear the shaft's
 /// corners by 0.3 to 1.3 tolerances at the angles where corners face faces. Below half the
 /// tolerance the corners come within it: a contact. Above it the contract allows either answer
@@ -1241,13 +1257,7 @@ fn turning_within_the_tolerance_band() {
             if c < 0.5 {
                 assert!(hit, "{label}: no contact");
             } else {
-                let capped = ContactOptions {
-                    tolerance: Some(delta),
-                    max_iterations: 8,
-                    ..Default::default()
-                };
-                let r = time_of_contact(m1, mo1, m2, mo2, &capped);
-                assert!(r.is_ok(), "{label}: {r:?}");
+                answers_within((m1, mo1, m2, mo2), delta, 8, &label);
             }
         }
     }
@@ -1290,13 +1300,7 @@ fn a_barrel_turning_past_a_tangent_edge() {
             ] {
                 contacts += usize::from(check(m1, mo1, m2, mo2, Some(delta), &label));
                 if c >= 1.0 {
-                    let capped = ContactOptions {
-                        tolerance: Some(delta),
-                        max_iterations: 30,
-                        ..Default::default()
-                    };
-                    let r = time_of_contact(m1, mo1, m2, mo2, &capped);
-                    assert!(r.is_ok(), "{label}: {r:?}");
+                    answers_within((m1, mo1, m2, mo2), delta, 30, &label);
                 }
             }
         }

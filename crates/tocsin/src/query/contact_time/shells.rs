@@ -1228,6 +1228,16 @@ mod tests {
     use rand::{Rng, SeedableRng};
     use rand_chacha::ChaCha8Rng;
 
+    /// Asserts that `v` lies in `range`, to `slack`.
+    pub(super) fn assert_in(v: f64, range: Range, slack: f64, what: &str) {
+        assert!(
+            v >= range.lo - slack && v <= range.hi + slack,
+            "{what} {v} outside [{}, {}]",
+            range.lo,
+            range.hi
+        );
+    }
+
     /// A screw between two poses of a pure turn about an axis off the origin slides by
     /// rounding only: no helical certificate (its quotient cost 80% of a robot wrist's query).
     /// A real slide keeps it, however small against the turn.
@@ -1407,18 +1417,13 @@ mod tests {
                 let rel = x - p;
                 let (xz, xrho) = (rel.dot(d), rel.cross(d).length());
                 let slack = 1e-12 * (1.0 + rel.length());
-                assert!(
-                    xrho >= rho.lo - slack && xrho <= rho.hi + slack,
-                    "case {case}: distance {xrho} from the line outside [{}, {}]",
-                    rho.lo,
-                    rho.hi
+                assert_in(
+                    xrho,
+                    rho,
+                    slack,
+                    &format!("case {case}: distance from the line"),
                 );
-                assert!(
-                    xz >= z.lo - slack && xz <= z.hi + slack,
-                    "case {case}: axial {xz} outside [{}, {}]",
-                    z.lo,
-                    z.hi
-                );
+                assert_in(xz, z, slack, &format!("case {case}: axial coordinate"));
             }
         }
     }
@@ -1484,6 +1489,7 @@ mod tests {
 
 #[cfg(test)]
 mod meridian_tests {
+    use super::tests::assert_in;
     use super::*;
     use crate::motion::sampling::{rss_point, unit};
     use crate::query::contact_time::test_support::point_on;
@@ -1519,12 +1525,7 @@ mod meridian_tests {
                 let x = point_on(&mut rng, &tri);
                 let v = h(n, x, p, d);
                 let slack = 1e-12 * (1.0 + v.abs());
-                assert!(
-                    v >= range.lo - slack && v <= range.hi + slack,
-                    "case {case}: triangle point's h {v} outside [{}, {}]",
-                    range.lo,
-                    range.hi
-                );
+                assert_in(v, range, slack, &format!("case {case}: triangle point's h"));
             }
             let e0 = unit(&mut rng);
             let e1 = e0.cross(unit(&mut rng)).normalize();
@@ -1535,12 +1536,7 @@ mod meridian_tests {
                 let x = rss_point(&mut rng, centre, (e0, e1), (l[0], l[1]), r);
                 let v = h(n, x, p, d);
                 let slack = 1e-12 * (1.0 + v.abs());
-                assert!(
-                    v >= range.lo - slack && v <= range.hi + slack,
-                    "case {case}: volume point's h {v} outside [{}, {}]",
-                    range.lo,
-                    range.hi
-                );
+                assert_in(v, range, slack, &format!("case {case}: volume point's h"));
             }
         }
     }
