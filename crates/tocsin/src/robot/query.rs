@@ -725,10 +725,7 @@ impl<'r> Segment<'r> {
         delta: f64,
         start_free: bool,
     ) -> Span {
-        let scale = m1.bounding_radius()
-            + m2.bounding_radius()
-            + p1.pose_at(start).translation.length()
-            + p2.pose_at(start).translation.length();
+        let scale = span_scale((m1, p1, m2, p2), start);
         Span {
             start,
             end,
@@ -798,6 +795,15 @@ impl<'r> Segment<'r> {
             },
         }
     }
+}
+
+/// The scale of two meshes where their paths start (their bounding radii and distances from
+/// the origin), from which an advancement takes its distances' resolution.
+fn span_scale((m1, p1, m2, p2): (&TriMesh, Path<'_>, &TriMesh, Path<'_>), start: f64) -> f64 {
+    m1.bounding_radius()
+        + m2.bounding_radius()
+        + p1.pose_at(start).translation.length()
+        + p2.pose_at(start).translation.length()
 }
 
 /// Two robot objects' paths relative to the deepest body both hang from

@@ -20,19 +20,24 @@
 //! **Pieces.** The obstacle's drift must stay well inside the clearance. An approximate distance
 //! `d` at a piece's start sizes it: `eps = room / 4`, `room = d - delta`, so the drift over the
 //! piece eats at most half the room, and the next piece (sized again from its own start) is shorter
-//! as a contact nears. Within `1.25 delta` the chain's advancement takes over; it settles a contact
-//! there in a few steps. A check that finds a frozen contact at `t_c` has certified `[a, t_c)` (its
-//! steps keep every pair above its half tolerance), and the next piece starts there; one that stops
-//! at its iteration cap hands over to the chain. The checks are tried where the turn dominates (the
-//! joint's points move [`DOMINANCE`] times faster than `P`'s points at the obstacle), where the
-//! link sweeps at least [`SWEEP`] clearances (else the chain's steps are long enough on their own),
-//! and where the span needs at most [`MAX_PIECES`] pieces at its start's clearance (each check
-//! starts its certificates' caches cold but for the turning mesh's ranges, which the mesh keeps:
-//! 0.2 to 0.4 ms on a 43K-triangle sensor). The checks only certify: every contact is still found
-//! by the chain's advancement, so the segment query's answers keep their meaning. An ordinary
-//! planner's edge moves every joint alike and never takes them.
+//! as a contact nears. Within `1.25 delta` the checks go on near contact: a fixed drift `eps` of a
+//! tenth of the tolerance, steps against `delta / 2 + eps`, and a frozen pair within `delta / 2 + 2
+//! eps` ending the check, so that its frozen contacts are true ones (within `delta / 2 + 3 eps`,
+//! under `delta`) and the chain taking over there ends at once; a near check that does not answer
+//! in [`NEAR_ITERATIONS`] hands over to the chain. (The chain alone within `1.25 delta` paid a
+//! spinning link's tangential speed at every corner passing an obstacle 1.01 to 1.2 tolerances
+//! away, and ran to the 1,000-iteration cap.) A check that finds a frozen contact at `t_c` has
+//! certified `[a, t_c)` (its steps keep every pair above its half tolerance), and the next piece
+//! starts there; one that stops at its iteration cap hands over to the chain. The checks are tried
+//! where the turn dominates (the joint's points move [`DOMINANCE`] times faster than `P`'s points
+//! at the obstacle), where the link sweeps at least [`SWEEP`] clearances (else the chain's steps
+//! are long enough on their own), and where the span needs at most [`MAX_PIECES`] pieces at its
+//! start's clearance (each check starts its certificates' caches cold but for the turning mesh's
+//! ranges, which the mesh keeps: 0.2 to 0.4 ms on a 43K-triangle sensor). The checks only certify:
+//! every contact is still found by the chain's advancement, so the segment query's answers keep
+//! their meaning. An ordinary planner's edge moves every joint alike and never takes them.
 
-use super::{Pair, Segment};
+use super::{span_scale, Pair, Segment};
 use crate::math::Pose;
 use crate::motion::Motion;
 use crate::query::contact_time::{advance_paths, ContactCache, Path, Span, FAR_SLACK, NEAR_SLACK};
@@ -66,6 +71,17 @@ const MAX_PIECES: f64 = 64.0;
 
 /// The most frozen checks on one span: pieces shrink with the clearance as a contact nears.
 const MAX_CHECKS: usize = 128;
+
+/// How many times a far check that could not tell is tried again on a quarter of its piece.
+const SHORTER: i32 = 3;
+
+/// The most iterations a check near contact takes before the chain takes over: where the
+/// certificates settle the span it takes one or two.
+const NEAR_ITERATIONS: usize = 8;
+
+/// The drift a check near contact allows (within `1.25 delta`), in tolerances: under a sixth,
+/// so that its frozen contacts are true ones (a piece may run up to 1.5 times its length).
+const NEAR_DRIFT: f64 = 0.1;
 
 /// What the frozen checks of one pair share.
 struct Frozen<'s> {
@@ -103,6 +119,8 @@ impl Segment<'_> {
             return start;
         };
         let mut t = start;
+        // Quartered after a far check that could not tell, up to `SHORTER` times.
+        let mut shorter = 0;
         for check in 0..MAX_CHECKS {
             if t >= end {
                 return end;
@@ -113,23 +131,36 @@ impl Segment<'_> {
                 // are long enough on its own (a gripper 20 mm from the board).
                 return start;
             }
-            // A check ends at a frozen pair within `delta + 2 eps`, and the frozen distance
-            // is about `d - eps` where the clearance holds: a piece of length `len` drifts by
-            // `eps = speed len / 2 = room / 4`, `room = d - delta`, and the room left after it
-            // is at least half. Within `1.25 delta` the chain takes over, to settle a contact
-            // or pass a near miss there (taking over within `2 delta`, it ground through a key
-            // passing a bump of its bore at 1.5 tolerances, over 1,000 iterations).
+            // A far check ends at a frozen pair within `delta + 2 eps`, and the frozen
+            // distance is about `d - eps` where the clearance holds: a piece of length `len`
+            // drifts by `eps = speed len / 2 = room / 4`, `room = d - delta`, and the room left
+            // after it is at least half. Within `1.25 delta` the checks go on near contact
+            // with a fixed drift ([`NEAR_DRIFT`]), whose frozen contacts are true ones.
             let room = d - self.delta;
-            if room <= 0.25 * self.delta {
-                return t;
-            }
-            let len = room / (2.0 * speed);
+            let near = room <= 0.25 * self.delta;
+            let eps = if near {
+                NEAR_DRIFT * self.delta
+            } else {
+                0.25 * room
+            };
+            let len = 2.0 * eps / speed;
             if check == 0 && (end - t) > MAX_PIECES * len {
                 return start;
             }
+            let len = if shorter == 0 {
+                len
+            } else {
+                len.min(end - t) * 0.25f64.powi(shorter)
+            };
             let b = if end - t < 1.5 * len { end } else { t + len };
-            match self.frozen_piece(pair, &frozen, (t, b)) {
-                Some(until) if until > t => t = until,
+            match self.frozen_piece(pair, &frozen, (t, b), near) {
+                Some(until) if until > t => (t, shorter) = (until, 0),
+                // A far check over a long piece can run out of iterations where the link
+                // passes the obstacle many times before the drift brings it within the check's
+                // tolerance (a barrel spinning past a plate 1.16 tolerances away, its first
+                // piece the whole span, 107 tolerances of clearance): shorter pieces, before
+                // the chain crawls through it.
+                None if !near && shorter < SHORTER => shorter += 1,
                 _ => return t,
             }
         }
@@ -174,8 +205,15 @@ impl Segment<'_> {
 
     /// The frozen check on `[a, b]`: `Some(b)` when it certifies the piece, `Some(t_c)` when
     /// it found a frozen contact at `t_c` (certifying `[a, t_c)`), `None` when it could not
-    /// tell (the turn no longer dominates, or the iteration cap).
-    fn frozen_piece(&self, pair: Pair, frozen: &Frozen, (a, b): (f64, f64)) -> Option<f64> {
+    /// tell (the turn no longer dominates, or the iteration cap). `near`: a check near contact,
+    /// whose frozen contacts are true ones (module docs).
+    fn frozen_piece(
+        &self,
+        pair: Pair,
+        frozen: &Frozen,
+        (a, b): (f64, f64),
+        near: bool,
+    ) -> Option<f64> {
         let obstacle = &self.scene.obstacles[pair.b];
         let (speed, to_parent) = self.parent_speed(pair, frozen, 0.5 * (a + b))?;
         let eps = speed * (b - a) / 2.0;
@@ -187,12 +225,23 @@ impl Segment<'_> {
         // took the chain's far slack of 4 (a fifth of the best step) before: a key passing a
         // bump of its bore, the arm drifting 1e-5 rad, needed over 32 iterations, reached the
         // cap and went to the chain (1.2 s; 23 ms now).
-        let span = Span {
+        let mut span = Span {
             first_window: 1.0,
             slack: (FAR_SLACK, NEAR_SLACK),
-            max_iterations: self.max_iterations.min(FROZEN_ITERATIONS),
+            max_iterations: self.max_iterations.min(if near {
+                NEAR_ITERATIONS
+            } else {
+                FROZEN_ITERATIONS
+            }),
             ..self.span(paths, (a, b), self.delta + 2.0 * eps, true)
         };
+        if near {
+            // Steps keep the frozen pairs above `delta / 2 + eps` and a pair within `delta / 2
+            // + 2 eps` ends the check: the true distance there is within `delta / 2 + 3 eps`,
+            // under `delta` for a drift under a sixth of it, so the chain taking over at that
+            // time ends at once.
+            span.contact = Span::contact(0.5 * self.delta + 2.0 * eps, span_scale(paths, a));
+        }
         match advance_paths(
             link,
             turn,
