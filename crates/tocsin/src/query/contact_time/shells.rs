@@ -1366,6 +1366,16 @@ mod tests {
         }
     }
 
+    /// A whole turn about z, and the certificates' data for it past a still body.
+    fn whole_turn() -> (Motion, AxisShells) {
+        let whole = Vec3::Z * std::f64::consts::TAU;
+        let motion = Motion::turn(Pose::IDENTITY, Vec3::ZERO, whole).expect("a turn");
+        let still = Motion::stationary(Pose::IDENTITY);
+        let root = *crate::mesh::box_mesh(Vec3::ONE).expect("box").bvh().root();
+        let shells = AxisShells::new(&motion, &still, &root, &root).expect("a fixed axis");
+        (motion, shells)
+    }
+
     /// Faces of a barrel-shaped shaft (radius `0.05 (1 + 0.03 sin 10z)`, widest at the face's
     /// upper end) turning a whole turn about z beside long still triangles whose edge passes
     /// the face's corners tangentially at height 0.08, slanted up to 0.6 rad, `clearance`
@@ -1377,11 +1387,7 @@ mod tests {
     #[test]
     fn barrel_faces_beside_tangent_edges_are_certified_slab_by_slab() {
         let mut rng = ChaCha8Rng::seed_from_u64(48);
-        let whole = Vec3::Z * std::f64::consts::TAU;
-        let motion = Motion::turn(Pose::IDENTITY, Vec3::ZERO, whole).expect("a turn");
-        let still = Motion::stationary(Pose::IDENTITY);
-        let root = *crate::mesh::box_mesh(Vec3::ONE).expect("box").bvh().root();
-        let shells = AxisShells::new(&motion, &still, &root, &root).expect("a fixed axis");
+        let (motion, shells) = whole_turn();
         let radius = |z: f64| 0.05 * (1.0 + 0.03 * (10.0 * z).sin());
         let at = |a: f64, r: f64, z: f64| Vec3::new(r * a.cos(), r * a.sin(), z);
         let need = 1e-5;
@@ -1429,11 +1435,7 @@ mod tests {
     fn a_turning_triangle_beside_a_plane_is_bounded_by_the_plane() {
         use crate::motion::sampling::unit;
         let mut rng = ChaCha8Rng::seed_from_u64(4803);
-        let whole = Vec3::Z * std::f64::consts::TAU;
-        let motion = Motion::turn(Pose::IDENTITY, Vec3::ZERO, whole).expect("a turn");
-        let still = Motion::stationary(Pose::IDENTITY);
-        let root = *crate::mesh::box_mesh(Vec3::ONE).expect("box").bvh().root();
-        let shells = AxisShells::new(&motion, &still, &root, &root).expect("a fixed axis");
+        let (motion, shells) = whole_turn();
         let need = 1e-5;
         for case in 0..80 {
             let (turning, plate) = if case < 40 {
