@@ -968,9 +968,9 @@ impl AxisShells {
     /// angle, where `n . x` is `n . a + n_d z` plus at most `|n_perp| rho` either way (`n` the
     /// plane's unit normal, `n_d` its part along the axis, `n_perp` across it, `a` the axis
     /// point), and the turning triangle's largest (smallest) value of `n_d z + |n_perp| rho`
-    /// (`n_d z - |n_perp| rho`) is at a corner (convex, concave). So the gap between the plane
-    /// and that range, less the axis point's slide along `n`, bounds the pair's distance from
-    /// below. A barrel turning beside a plate's face 1.01 tolerances away: the ranges in the
+    /// (`n_d z - |n_perp| rho`) is at a corner (convex, concave). So the gap between the still
+    /// corners' range of `n . x` (the plane, to rounding) and that range, less the axis point's
+    /// slide along `n`, bounds the pair's distance from below, for any unit `n`. A barrel turning beside a plate's face 1.01 tolerances away: the ranges in the
     /// half-plane of `rho` and `z`, slabs or not, lose the plane's slope across the axis, and
     /// a robot's spinning barrel crawled to the iteration cap.
     fn plane_gap(&self, turning: &[Vec3; 3], still: &[Vec3; 3], a: Vec3, slide: f64) -> f64 {
@@ -984,7 +984,13 @@ impl AxisShells {
         let n = n / len;
         let n_d = n.dot(ax.world_dir);
         let n_perp = (n - ax.world_dir * n_d).length();
-        let c = n.dot(still[0] - a);
+        // The still corners' range along `n`, not one corner's value: a sliver's normal is
+        // off by rounding, and the range keeps the bound sound for any unit `n`.
+        let along = still.map(|v| n.dot(v - a));
+        let (c_lo, c_hi) = (
+            along[0].min(along[1]).min(along[2]),
+            along[0].max(along[1]).max(along[2]),
+        );
         let (mut hi, mut lo) = (f64::NEG_INFINITY, f64::INFINITY);
         for &v in turning {
             let rel = v - ax.body_point;
@@ -993,7 +999,7 @@ impl AxisShells {
             hi = hi.max(n_d * z + n_perp * rho);
             lo = lo.min(n_d * z - n_perp * rho);
         }
-        ((c - hi).max(lo - c) - n_d.abs() * slide).max(0.0)
+        ((c_lo - hi).max(lo - c_hi) - n_d.abs() * slide).max(0.0)
     }
 
     /// The slabs' bound ([`slab_bound`]) on a turning triangle (body frame, its axial range
