@@ -1018,15 +1018,9 @@ impl AxisShells {
     ) -> f64 {
         let ax = &self.axis;
         let w = need * (1.0 + 1e-6) + f64::MIN_POSITIVE;
-        let across = |tri: &[Vec3; 3], p: Vec3, d: Vec3, (u, v): (Vec3, Vec3)| {
-            tri.map(|c| {
-                let rel = c - p;
-                [rel.dot(u), rel.dot(v), rel.dot(d)]
-            })
-        };
         let pair = (
-            across(turning, ax.body_point, ax.body_dir, self.across.0),
-            across(still, axis_point, ax.world_dir, self.across.1),
+            axis_coords(turning, ax.body_point, ax.body_dir, self.across.0),
+            axis_coords(still, axis_point, ax.world_dir, self.across.1),
         );
         // The hopeless test of `slab_bound` on the whole triangles first, without clipping:
         // most pairs that reach here are about to touch.
@@ -1047,11 +1041,17 @@ impl AxisShells {
 /// and a point's distance from the line is the length of its part across it): 0 where the
 /// projection holds the origin, else the nearest of its edges.
 fn line_distance(tri: &[Vec3; 3], p: Vec3, (u, v): (Vec3, Vec3)) -> f64 {
-    let q = tri.map(|c| {
+    nearest_to_axis(&axis_coords(tri, p, Vec3::ZERO, (u, v)), 0.0).0
+}
+
+/// The triangle's corners as `[across u, across v, along d]` from the point `p`: the frame of
+/// an axis through `p` along the unit `d`, `u` and `v` spanning the plane across it (a zero `d`
+/// leaves the axial coordinate 0).
+fn axis_coords(tri: &[Vec3; 3], p: Vec3, d: Vec3, (u, v): (Vec3, Vec3)) -> [[f64; 3]; 3] {
+    tri.map(|c| {
         let rel = c - p;
-        (rel.dot(u), rel.dot(v))
-    });
-    polygon_origin_distance(&q)
+        [rel.dot(u), rel.dot(v), rel.dot(d)]
+    })
 }
 
 /// How many times [`slab_bound`] may halve a turning triangle's axial range.
@@ -1062,7 +1062,7 @@ const SLAB_DEPTH: u32 = 8;
 /// turned, up to `w`, from slabs across the axis: over the slab `[lo, hi]`, the turning
 /// triangle's part is at most `rho_t` from the axis (its clipped corners', exact: the distance
 /// from a line is convex), and the still triangle's part within `w + slide` of the slab at
-/// least `rho_s` ([`polygon_origin_distance`]); its other points are more than `w` away along
+/// least `rho_s` ([`nearest_to_axis`]); its other points are more than `w` away along
 /// the axis. So each pair of points is at least `min(w, rho_s - rho_t)` apart. A slab that
 /// does not certify `w` is halved, `depth` times at most; the bound is the smallest found.
 fn slab_bound(
@@ -1155,35 +1155,6 @@ fn clip_to_slab(tri: &[[f64; 3]; 3], (lo, hi): (f64, f64)) -> Option<([[f64; 3];
         (poly, n) = (out, m);
     }
     Some((poly, n))
-}
-
-/// The distance from the origin to the convex polygon `q` (corners in order; a segment or a
-/// point where it is degenerate): 0 where it holds the origin, else its nearest edge's.
-fn polygon_origin_distance(q: &[(f64, f64)]) -> f64 {
-    let cross = |a: (f64, f64), b: (f64, f64)| a.0 * b.1 - a.1 * b.0;
-    let n = q.len();
-    let signs = (0..n).map(|i| cross(q[i], q[(i + 1) % n]));
-    let (mut pos, mut neg) = (true, true);
-    for s in signs {
-        pos &= s >= 0.0;
-        neg &= s <= 0.0;
-    }
-    if pos || neg {
-        return 0.0;
-    }
-    let segment = |a: (f64, f64), b: (f64, f64)| {
-        let (ex, ey) = (b.0 - a.0, b.1 - a.1);
-        let len2 = ex * ex + ey * ey;
-        let t = if len2 > 0.0 {
-            (-(a.0 * ex + a.1 * ey) / len2).clamp(0.0, 1.0)
-        } else {
-            0.0
-        };
-        (a.0 + t * ex).hypot(a.1 + t * ey)
-    };
-    (0..n)
-        .map(|i| segment(q[i], q[(i + 1) % n]))
-        .fold(f64::INFINITY, f64::min)
 }
 
 /// The smallest distance from the axis (the third coordinate's line) over the convex polygon
