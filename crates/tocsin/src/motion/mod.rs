@@ -250,6 +250,19 @@ impl Motion {
         m
     }
 
+    /// [`Motion::turn_unchecked`] while sliding at the world velocity `slide` along the axis
+    /// (parallel to `angular`): a screw about the world line through `point`, of any angle (a
+    /// robot link turned by a revolute joint while slides along its axis move it).
+    pub(crate) fn turn_and_slide(start: Pose, point: Vec3, angular: Vec3, slide: Vec3) -> Self {
+        let mut m = Self::turn_unchecked(start, point, angular);
+        if angular != Vec3::ZERO && slide != Vec3::ZERO {
+            m.linear = slide;
+            m.twist += slide;
+            m.end = m.screw_pose(1.0);
+        }
+        m
+    }
+
     fn build(
         kind: MotionKind,
         start: Pose,

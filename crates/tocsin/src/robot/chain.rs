@@ -65,6 +65,12 @@
 use crate::math::{Mat3, Pose, Vec3};
 use crate::motion::Motion;
 
+/// How far from parallel (the sine of the angle) a slide's axis may be from a turning joint's
+/// for [`ChainPath::rigid`] to take the two as one screw: the slide's part across the axis,
+/// dropped, moves the link by at most this fraction of the slide, a rounding of the axes'
+/// entries.
+const SAME_AXIS: f64 = 1e-12;
+
 /// A moving joint's frame and axis, with the products that give `origin * J(q)` in one step.
 ///
 /// For a revolute joint, Rodrigues' formula `J(q) = c I + s [a]x + (1 - c) a a^T` carried
@@ -221,25 +227,43 @@ impl<'f> ChainPath<'f> {
 
     /// The same motion as a rigid one, when it is one the rigid query serves better: a body
     /// that does not move, or one that turns with a single revolute joint while every other
-    /// joint of its chain stands still. The turn is about a line fixed in the world, so the
-    /// rigid query's rotation certificates apply (a wrist turning at a small clearance from
-    /// a shelf, docs/BENCHMARKS.md). `None` for any other motion.
+    /// moving joint of its chain slides along that joint's axis (none, in a wrist turning at a
+    /// small clearance from a shelf; a bolt driven into its nut by a slide along its axis). The
+    /// turn is about a line fixed in the world, so the rigid query's rotation certificates
+    /// apply (docs/BENCHMARKS.md). `None` for any other motion.
     pub fn rigid(&self) -> Option<Motion> {
-        let mut moving = self.steps.iter().enumerate().filter(|(_, s)| s.dq != 0.0);
-        let Some((j, step)) = moving.next() else {
-            return Some(Motion::stationary(self.pose_at(0.0)));
+        let moving = || self.steps.iter().enumerate().filter(|(_, s)| s.dq != 0.0);
+        let mut turning = moving().filter(|(_, s)| !s.frame.prismatic);
+        let Some((j, step)) = turning.next() else {
+            return moving()
+                .next()
+                .is_none()
+                .then(|| Motion::stationary(self.pose_at(0.0)));
         };
-        if moving.next().is_some() || step.frame.prismatic {
+        if turning.next().is_some() {
             return None;
         }
-        // The pose of joint j's parent body, which does not move.
+        // The pose of joint j's parent body at the start; the line through the joint's origin
+        // along its axis stays where it is, the slides moving it along itself.
         let parent = self.parent_pose(j, 0.0);
         let point = parent.transform_point(step.frame.origin.translation);
         let dir = (parent.rotation * step.frame.o_axis).normalize();
-        Some(Motion::turn_unchecked(
+        // The slides' world velocity: each one's axis at the start, which a turn about `dir`
+        // keeps where it is parallel to it (the slides below the joint) and no turn moves (the
+        // slides above it: the only turning joint is j).
+        let mut slide = Vec3::ZERO;
+        for (k, s) in moving().filter(|(_, s)| s.frame.prismatic) {
+            let axis = (self.parent_pose(k, 0.0).rotation * s.frame.o_axis).normalize();
+            if axis.cross(dir).length() > SAME_AXIS {
+                return None;
+            }
+            slide += dir * (axis.dot(dir) * s.dq);
+        }
+        Some(Motion::turn_and_slide(
             self.pose_at(0.0),
             point,
             dir * step.dq,
+            slide,
         ))
     }
 
@@ -536,5 +560,93 @@ mod tests {
             }
         }
         assert!(turns > 150 && still > 40, "{turns} turns, {still} still");
+    }
+
+    /// The path of `frames` from `q0` by `dq`, from `base`.
+    fn chain_path<'f>(
+        base: Pose,
+        frames: &'f [JointFrame],
+        q0: &[f64],
+        dq: &[f64],
+    ) -> ChainPath<'f> {
+        let steps = frames
+            .iter()
+            .zip(q0.iter().zip(dq))
+            .map(|(frame, (&q0, &dq))| ChainStep {
+                frame,
+                q0,
+                dq,
+                r_chain: 0.0,
+                omega_before: 0.0,
+                v_rel: 0.0,
+            })
+            .collect();
+        ChainPath::new(base, steps, 0.5)
+    }
+
+    /// [`ChainPath::rigid`] on a turn while slides move the link along the turning axis (one
+    /// or two slides, above or below the turning joint): a screw that follows the chain's poses
+    /// over turns of up to 4.5 rad; a slide's axis a millionth of a radian off the turning
+    /// axis is no screw.
+    #[test]
+    fn rigid_screws_follow_the_chain() {
+        let mut rng = ChaCha8Rng::seed_from_u64(8);
+        let mut screws = 0;
+        for case in 0..200 {
+            let m = 2 + case % 5;
+            let mut frames: Vec<JointFrame> = (0..m).map(|_| random_frame(&mut rng)).collect();
+            let j = rng.random_range(0..m);
+            let slides: Vec<usize> = (0..m).filter(|&k| k != j).take(1 + case % 2).collect();
+            let joint = |rng: &mut ChaCha8Rng, frame: &JointFrame, prismatic| {
+                JointFrame::new(frame.origin, unit(rng), prismatic)
+            };
+            for k in 0..m {
+                frames[k] = joint(&mut rng, &frames[k], slides.contains(&k));
+            }
+            let q0: Vec<f64> = (0..m).map(|_| rng.random_range(-1.5..1.5)).collect();
+            let base = Pose::from_axis_angle(unit(&mut rng), 1.0, unit(&mut rng));
+            // The slides' axes along the turning joint's, in the world at the start (the
+            // parents' rotations do not depend on the slides' axes).
+            let still = chain_path(base, &frames, &q0, &vec![0.0; m]);
+            let dir = still.parent_pose(j, 0.0).rotation * frames[j].o_axis;
+            let parents: Vec<Mat3> = (0..m).map(|k| still.parent_pose(k, 0.0).rotation).collect();
+            let off = case % 10 == 9;
+            for &k in &slides {
+                let mut world = dir * if rng.random_bool(0.5) { 1.0 } else { -1.0 };
+                if off {
+                    world = (world + 1e-6 * unit(&mut rng)).normalize();
+                }
+                let local = frames[k].origin.rotation.transpose() * parents[k].transpose() * world;
+                frames[k] = JointFrame::new(frames[k].origin, local.normalize(), true);
+            }
+            let dq: Vec<f64> = (0..m)
+                .map(|k| match k {
+                    _ if k == j => rng.random_range(-4.5..4.5),
+                    _ if slides.contains(&k) => rng.random_range(-0.5..0.5),
+                    _ => 0.0,
+                })
+                .collect();
+            let chain = chain_path(base, &frames, &q0, &dq);
+            let motion = chain.rigid();
+            if off {
+                assert!(motion.is_none(), "case {case}: a slide across the axis");
+                continue;
+            }
+            let motion = motion.unwrap_or_else(|| panic!("case {case}: a screw"));
+            assert!(motion.fixed_axis().is_some(), "case {case}");
+            screws += 1;
+            for k in 0..12 {
+                let t = match k {
+                    0 => 0.0,
+                    1 => 1.0,
+                    _ => rng.random_range(0.0..1.0),
+                };
+                let (a, b) = (chain.pose_at(t), motion.pose_at(t));
+                let x = unit(&mut rng) * 0.5;
+                let gap = (a.transform_point(x) - b.transform_point(x)).length();
+                assert!(gap < 1e-12, "case {case}, t {t}: {gap} apart");
+            }
+        }
+        assert!(screws > 150, "{screws} screws");
     }
 }
