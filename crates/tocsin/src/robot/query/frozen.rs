@@ -121,6 +121,8 @@ impl Segment<'_> {
         let mut t = start;
         // Quartered after a far check that could not tell, up to `SHORTER` times.
         let mut shorter = 0;
+        // The most room a piece is sized with, and whether the next piece lowers it (below).
+        let (mut most_room, mut tighten) = (f64::INFINITY, false);
         for check in 0..MAX_CHECKS {
             if t >= end {
                 return end;
@@ -136,7 +138,11 @@ impl Segment<'_> {
             // drifts by `eps = speed len / 2 = room / 4`, `room = d - delta`, and the room left
             // after it is at least half. Within `1.25 delta` the checks go on near contact
             // with a fixed drift ([`NEAR_DRIFT`]), whose frozen contacts are true ones.
-            let room = d - self.delta;
+            let mut room = d - self.delta;
+            if tighten {
+                (most_room, tighten) = (most_room.min(0.25 * room), false);
+            }
+            room = room.min(most_room);
             let near = room <= 0.25 * self.delta;
             let eps = if near {
                 NEAR_DRIFT * self.delta
@@ -154,7 +160,20 @@ impl Segment<'_> {
             };
             let b = if end - t < 1.5 * len { end } else { t + len };
             match self.frozen_piece(pair, &frozen, (t, b), near) {
-                Some(until) if until > t => (t, shorter) = (until, 0),
+                Some(until) if until > t => {
+                    // A far check's frozen contact: the clearance at a piece's start can be
+                    // a far phase of the turn (a shaft's corners between the faces of its
+                    // bore, 4 tolerances, against 1.05 where they pass the faces), and a piece
+                    // sized from it ends at the next near phase, each such check costing tens
+                    // of milliseconds. The next piece's room is a quarter of its clearance's,
+                    // and later pieces' at most that, doubling with each piece certified whole
+                    // (a wrist whose clearance grows again once past a board's edge).
+                    tighten = !near && until < b;
+                    if until >= b {
+                        most_room *= 2.0;
+                    }
+                    (t, shorter) = (until, 0)
+                }
                 // A far check over a long piece can run out of iterations where the link
                 // passes the obstacle many times before the drift brings it within the check's
                 // tolerance (a barrel spinning past a plate 1.16 tolerances away, its first
