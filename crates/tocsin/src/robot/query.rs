@@ -736,6 +736,7 @@ impl<'r> Segment<'r> {
             first_window: FIRST_WINDOW,
             slack: (FAR_SLACK, NEAR_SLACK),
             start_free,
+            least_first_step: 0.0,
         }
     }
 

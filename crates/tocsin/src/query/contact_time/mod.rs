@@ -454,6 +454,11 @@ pub(crate) struct Span {
     /// is skipped. Were they touching after all, the first step search would find a pair within
     /// the tolerance and end at `start` just the same, with [`ContactStatus::Converged`].
     pub start_free: bool,
+    /// An advancement whose first step certifies less than this fraction of the span stops
+    /// there, with an iteration-limit error at the time it reached (0: never). A robot's
+    /// frozen check sized for more room than the turn leaves stops at once and is sized again
+    /// (`robot/query/frozen.rs`).
+    pub least_first_step: f64,
 }
 
 impl Span {
@@ -476,6 +481,7 @@ impl Span {
             first_window: 1.0,
             slack: (FAR_SLACK, NEAR_SLACK),
             start_free,
+            least_first_step: 0.0,
         }
     }
 }
@@ -587,6 +593,12 @@ fn advance_core<const PROBING: bool>(
                 }
                 if distance > resolution {
                     earlier = Some(t);
+                }
+                if iteration == 1 && dt < span.least_first_step * (span.end - span.start) {
+                    return Err(ContactError::IterationLimit {
+                        iterations: 1,
+                        time_reached: t + dt,
+                    });
                 }
                 t += dt;
                 // A step that no pair limited (the whole window was certified) lets the next

@@ -20,7 +20,11 @@
 //! **Pieces.** The obstacle's drift must stay well inside the clearance. An approximate distance
 //! `d` at a piece's start sizes it: `eps = room / 4`, `room = d - delta`, so the drift over the
 //! piece eats at most half the room, and the next piece (sized again from its own start) is shorter
-//! as a contact nears. Within `1.25 delta` the checks go on near contact: a fixed drift `eps` of a
+//! as a contact nears. `d` can be a far phase of the turn (a shaft's corners between its bore's
+//! faces), and such a piece ends at the next near phase: a far check whose first step certifies
+//! under [`LEAST_FIRST_STEP`] of its piece stops there, and after a far check that ends short of its
+//! piece the room of later pieces is at most a quarter of its room, doubling with each piece
+//! certified whole. Within `1.25 delta` the checks go on near contact: a fixed drift `eps` of a
 //! tenth of the tolerance, steps against `delta / 2 + eps`, and a frozen pair within `delta / 2 + 2
 //! eps` ending the check, so that its frozen contacts are true ones (within `delta / 2 + 3 eps`,
 //! under `delta`) and the chain taking over there ends at once; a near check that does not answer
@@ -38,6 +42,7 @@
 //! their meaning. An ordinary planner's edge moves every joint alike and never takes them.
 
 use super::{span_scale, Pair, Segment};
+use crate::error::ContactError;
 use crate::math::Pose;
 use crate::motion::Motion;
 use crate::query::contact_time::{advance_paths, ContactCache, Path, Span, FAR_SLACK, NEAR_SLACK};
@@ -68,6 +73,11 @@ const APPROXIMATE: f64 = 0.25;
 /// clearances): 8 left it to the chain alone (33 ms); 64 certify it in pieces (17 ms, 10.6
 /// with the turning mesh's ranges kept).
 const MAX_PIECES: f64 = 64.0;
+
+/// A far check whose first step certifies less than this fraction of its piece stops there
+/// and counts as a frozen contact (the next piece is sized again, with a quarter of the room):
+/// its piece was sized from a far phase of the turn.
+const LEAST_FIRST_STEP: f64 = 1.0 / 64.0;
 
 /// The most frozen checks on one span: pieces shrink with the clearance as a contact nears.
 const MAX_CHECKS: usize = 128;
@@ -121,8 +131,8 @@ impl Segment<'_> {
         let mut t = start;
         // Quartered after a far check that could not tell, up to `SHORTER` times.
         let mut shorter = 0;
-        // The most room a piece is sized with, and whether the next piece lowers it (below).
-        let (mut most_room, mut tighten) = (f64::INFINITY, false);
+        // The most room a piece is sized with (below).
+        let mut most_room = f64::INFINITY;
         for check in 0..MAX_CHECKS {
             if t >= end {
                 return end;
@@ -138,11 +148,7 @@ impl Segment<'_> {
             // drifts by `eps = speed len / 2 = room / 4`, `room = d - delta`, and the room left
             // after it is at least half. Within `1.25 delta` the checks go on near contact
             // with a fixed drift ([`NEAR_DRIFT`]), whose frozen contacts are true ones.
-            let mut room = d - self.delta;
-            if tighten {
-                (most_room, tighten) = (most_room.min(0.25 * room), false);
-            }
-            room = room.min(most_room);
+            let room = (d - self.delta).min(most_room);
             let near = room <= 0.25 * self.delta;
             let eps = if near {
                 NEAR_DRIFT * self.delta
@@ -161,16 +167,18 @@ impl Segment<'_> {
             let b = if end - t < 1.5 * len { end } else { t + len };
             match self.frozen_piece(pair, &frozen, (t, b), near) {
                 Some(until) if until > t => {
-                    // A far check's frozen contact: the clearance at a piece's start can be
-                    // a far phase of the turn (a shaft's corners between the faces of its
-                    // bore, 4 tolerances, against 1.05 where they pass the faces), and a piece
-                    // sized from it ends at the next near phase, each such check costing tens
-                    // of milliseconds. The next piece's room is a quarter of its clearance's,
-                    // and later pieces' at most that, doubling with each piece certified whole
-                    // (a wrist whose clearance grows again once past a board's edge).
-                    tighten = !near && until < b;
+                    // A far check that ends short of its piece (a frozen contact, or a first
+                    // step under `LEAST_FIRST_STEP`): the clearance at its start can be a far
+                    // phase of the turn (a shaft's corners between the faces of its bore, 4
+                    // tolerances, against 1.05 where they pass the faces), and a piece sized
+                    // from it ends at the next near phase, each such check costing tens of
+                    // milliseconds. Later pieces take at most a quarter of its room, doubling
+                    // with each piece certified whole (a wrist whose clearance grows again once
+                    // past a board's edge).
                     if until >= b {
                         most_room *= 2.0;
+                    } else if !near {
+                        most_room = 0.25 * room;
                     }
                     (t, shorter) = (until, 0)
                 }
@@ -252,6 +260,7 @@ impl Segment<'_> {
             } else {
                 FROZEN_ITERATIONS
             }),
+            least_first_step: if near { 0.0 } else { LEAST_FIRST_STEP },
             ..self.span(paths, (a, b), self.delta + 2.0 * eps, true)
         };
         if near {
@@ -271,6 +280,11 @@ impl Segment<'_> {
         ) {
             Ok(None) => Some(b),
             Ok(Some(ends)) => Some(ends.time),
+            // The first step fell short: certified up to where it reached.
+            Err(ContactError::IterationLimit {
+                iterations: 1,
+                time_reached,
+            }) if span.least_first_step > 0.0 => Some(time_reached),
             Err(_) => None,
         }
     }
