@@ -600,8 +600,8 @@ mod tests {
             let joint = |rng: &mut ChaCha8Rng, frame: &JointFrame, prismatic| {
                 JointFrame::new(frame.origin, unit(rng), prismatic)
             };
-            for k in 0..m {
-                frames[k] = joint(&mut rng, &frames[k], slides.contains(&k));
+            for (k, frame) in frames.iter_mut().enumerate() {
+                *frame = joint(&mut rng, frame, slides.contains(&k));
             }
             let q0: Vec<f64> = (0..m).map(|_| rng.random_range(-1.5..1.5)).collect();
             let base = Pose::from_axis_angle(unit(&mut rng), 1.0, unit(&mut rng));
@@ -632,7 +632,8 @@ mod tests {
                 assert!(motion.is_none(), "case {case}: a slide across the axis");
                 continue;
             }
-            let motion = motion.unwrap_or_else(|| panic!("case {case}: a screw"));
+            assert!(motion.is_some(), "case {case}: a screw");
+            let Some(motion) = motion else { continue };
             assert!(motion.fixed_axis().is_some(), "case {case}");
             screws += 1;
             for k in 0..12 {
