@@ -1249,10 +1249,10 @@ fn spinning_links_beside_close_obstacles_against_the_contract() {
 /// screw) or stands still while the post drifts 1e-5 to 1e-2 on a slide of its own; the post (a
 /// random soup or a plate) is moved until the pair's sampled closest approach is 0.2 to 3
 /// tolerances. Each segment against the oracle and the contract ([`check_edge_and_contract`]).
-/// When it was written, a barrel screwed past the post by the arm's slide ran to the 1,000-iteration
-/// cap: the chain's bound charged its corners their whole turning speed at each pass, where a
-/// screw's certificates settle the pair (`ChainPath::rigid` now takes such a slide and turn as
-/// one screw).
+/// When it was written, a barrel screwed past the post by the arm's slide ran to the
+/// 1,000-iteration cap: the chain's bound charged its corners their whole turning speed at each
+/// pass, where a screw's certificates settle the pair (`ChainPath::rigid` now takes such a slide
+/// and turn as one screw).
 #[test]
 fn spinning_links_beside_their_own_robot_against_the_contract() {
     use std::f64::consts::PI;

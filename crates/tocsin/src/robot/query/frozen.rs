@@ -22,8 +22,8 @@
 //! piece eats at most half the room, and the next piece (sized again from its own start) is shorter
 //! as a contact nears. `d` can be a far phase of the turn (a shaft's corners between its bore's
 //! faces), and such a piece ends at the next near phase: a far check whose first step certifies
-//! under [`LEAST_FIRST_STEP`] of its piece stops there, and after a far check that ends short of its
-//! piece the room of later pieces is at most a quarter of its room, doubling with each piece
+//! under [`LEAST_FIRST_STEP`] of its piece stops there, and after a far check that ends short of
+//! its piece the room of later pieces is at most a quarter of its room, doubling with each piece
 //! certified whole. Within `1.25 delta` the checks go on near contact: a fixed drift `eps` of a
 //! tenth of the tolerance, steps against `delta / 2 + eps`, and a frozen pair within `delta / 2 + 2
 //! eps` ending the check, so that its frozen contacts are true ones (within `delta / 2 + 3 eps`,
