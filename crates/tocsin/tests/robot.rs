@@ -1102,6 +1102,34 @@ fn random_spinner(rng: &mut rand_chacha::ChaCha8Rng, kind: usize) -> TriMesh {
     }
 }
 
+/// `v`'s coordinates as a URDF attribute.
+fn xyz(v: Vec3) -> String {
+    format!("{} {} {}", v.x, v.y, v.z)
+}
+
+/// 1 or -1, alike.
+fn random_sign(rng: &mut rand_chacha::ChaCha8Rng) -> f64 {
+    if rng.random_bool(0.5) {
+        1.0
+    } else {
+        -1.0
+    }
+}
+
+/// How far a slowly moving joint moves: 1e-5 to 1e-2, log-uniform, of either sign.
+fn small_move(rng: &mut rand_chacha::ChaCha8Rng) -> f64 {
+    10f64.powf(rng.random_range(-5.0..-2.0)) * random_sign(rng)
+}
+
+/// A randomized test's tally of free segments and contacts mixes both: at least a fifth of the
+/// cases free and a tenth in contact.
+fn assert_mix(tally: [usize; 2], cases: usize) {
+    assert!(
+        tally[0] >= cases / 5 && tally[1] >= cases / 10,
+        "{tally:?} free and contact: the set should mix both"
+    );
+}
+
 /// [`check_edge_within`], then the contract: no configuration of 4,000 sampled before the answer
 /// (the contact's time, or the segment's end) has a checked pair closer than half the tolerance.
 /// `Some(self_collision)` for a contact, `None` for a free segment.
@@ -1171,7 +1199,6 @@ fn spinning_links_beside_close_obstacles_against_the_contract() {
             common::random_unit(&mut rng)
         };
         let swing_axis = common::random_unit(&mut rng);
-        let xyz = |v: Vec3| format!("{} {} {}", v.x, v.y, v.z);
         let xml = robot_xml(&format!(
             "{}{}{}{}{}",
             link("base", ""),
@@ -1202,13 +1229,11 @@ fn spinning_links_beside_close_obstacles_against_the_contract() {
         };
         let tol = query::robot_tolerance(&robot, &opts);
         let q0 = [rng.random_range(-0.5..0.5), rng.random_range(-PI..PI)];
-        let sign =
-            |rng: &mut rand_chacha::ChaCha8Rng| if rng.random_bool(0.5) { 1.0 } else { -1.0 };
-        let swing = 10f64.powf(rng.random_range(-5.0..-2.0)) * sign(&mut rng);
+        let swing = small_move(&mut rng);
         let swing = if case % 3 == 1 { 0.0 } else { swing };
         let q1 = [
             q0[0] + swing,
-            q0[1] + rng.random_range(1.5..4.5) * sign(&mut rng),
+            q0[1] + rng.random_range(1.5..4.5) * random_sign(&mut rng),
         ];
         let obstacle = Arc::new(if kind == 0 && rng.random_bool(0.5) {
             tocsin::mesh::box_mesh(Vec3::new(0.2, 0.2, 0.01)).unwrap()
@@ -1236,10 +1261,7 @@ fn spinning_links_beside_close_obstacles_against_the_contract() {
         let got = check_edge_and_contract(&robot, (&q0, &q1), &scene, tolerance, &label);
         tally[usize::from(got.is_some())] += 1;
     }
-    assert!(
-        tally[0] >= cases / 5 && tally[1] >= cases / 10,
-        "{tally:?} free and contact: the set should mix both"
-    );
+    assert_mix(tally, cases);
 }
 
 /// The spinner of [`spinning_links_beside_close_obstacles_against_the_contract`] beside a post of
@@ -1286,38 +1308,32 @@ fn spinning_links_beside_their_own_robot_against_the_contract() {
         } else {
             common::random_unit(&mut rng)
         };
-        let sign =
-            |rng: &mut rand_chacha::ChaCha8Rng| if rng.random_bool(0.5) { 1.0 } else { -1.0 };
-        let small = |rng: &mut rand_chacha::ChaCha8Rng| {
-            10f64.powf(rng.random_range(-5.0..-2.0)) * sign(rng)
-        };
         // The arm's joint, its axis and how far it moves; the post's slide and its drift.
         let (arm_kind, arm_axis, arm_move, post_drift) = match motion {
             0 => (
                 "revolute",
                 common::random_unit(&mut rng),
-                small(&mut rng),
+                small_move(&mut rng),
                 0.0,
             ),
             1 => (
                 "prismatic",
                 common::random_unit(&mut rng),
-                small(&mut rng),
+                small_move(&mut rng),
                 0.0,
             ),
             2 => {
-                let pitch = 10f64.powf(rng.random_range(-4.0..-1.3)) * sign(&mut rng);
+                let pitch = 10f64.powf(rng.random_range(-4.0..-1.3)) * random_sign(&mut rng);
                 ("prismatic", spin, pitch, 0.0)
             }
             _ => (
                 "revolute",
                 common::random_unit(&mut rng),
                 0.0,
-                small(&mut rng),
+                small_move(&mut rng),
             ),
         };
         let post_axis = common::random_unit(&mut rng);
-        let xyz = |v: Vec3| format!("{} {} {}", v.x, v.y, v.z);
         let build = |mount: Vec3| {
             let xml = robot_xml(&format!(
                 "{}{}{}{}{}{}{}",
@@ -1362,7 +1378,7 @@ fn spinning_links_beside_their_own_robot_against_the_contract() {
         ];
         let q1 = [
             q0[0] + arm_move,
-            q0[1] + rng.random_range(1.5..4.5) * sign(&mut rng),
+            q0[1] + rng.random_range(1.5..4.5) * random_sign(&mut rng),
             q0[2] + post_drift,
         ];
         let tolerance = rng.random_bool(0.5).then_some(2e-5);
@@ -1398,8 +1414,5 @@ fn spinning_links_beside_their_own_robot_against_the_contract() {
         }
         tally[usize::from(got.is_some())] += 1;
     }
-    assert!(
-        tally[0] >= cases / 5 && tally[1] >= cases / 10,
-        "{tally:?} free and contact: the set should mix both"
-    );
+    assert_mix(tally, cases);
 }

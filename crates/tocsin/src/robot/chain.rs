@@ -509,6 +509,22 @@ mod tests {
         );
     }
 
+    /// `motion` moves a random point within 0.5 of the body's origin as `path` does, to 1e-12,
+    /// at both ends and ten random times.
+    fn assert_same_poses(rng: &mut ChaCha8Rng, case: usize, path: &ChainPath, motion: &Motion) {
+        for k in 0..12 {
+            let t = match k {
+                0 => 0.0,
+                1 => 1.0,
+                _ => rng.random_range(0.0..1.0),
+            };
+            let (a, b) = (path.pose_at(t), motion.pose_at(t));
+            let x = unit(rng) * 0.5;
+            let gap = (a.transform_point(x) - b.transform_point(x)).length();
+            assert!(gap < 1e-12, "case {case}, t {t}: {gap} apart");
+        }
+    }
+
     /// [`ChainPath::rigid`] against the chain's own poses: random chains where one joint moves
     /// (revolute: a turn of up to 4.5 rad, over pi included; prismatic: none) or none does
     /// (stationary), compared at random times and at both ends.
@@ -547,17 +563,7 @@ mod tests {
             } else {
                 turns += 1;
             }
-            for k in 0..12 {
-                let t = match k {
-                    0 => 0.0,
-                    1 => 1.0,
-                    _ => rng.random_range(0.0..1.0),
-                };
-                let (a, b) = (path.pose_at(t), motion.pose_at(t));
-                let x = unit(&mut rng) * 0.5;
-                let gap = (a.transform_point(x) - b.transform_point(x)).length();
-                assert!(gap < 1e-12, "case {case}, t {t}: {gap} apart");
-            }
+            assert_same_poses(&mut rng, case, &path, &motion);
         }
         assert!(turns > 150 && still > 40, "{turns} turns, {still} still");
     }
@@ -636,17 +642,7 @@ mod tests {
             let Some(motion) = motion else { continue };
             assert!(motion.fixed_axis().is_some(), "case {case}");
             screws += 1;
-            for k in 0..12 {
-                let t = match k {
-                    0 => 0.0,
-                    1 => 1.0,
-                    _ => rng.random_range(0.0..1.0),
-                };
-                let (a, b) = (chain.pose_at(t), motion.pose_at(t));
-                let x = unit(&mut rng) * 0.5;
-                let gap = (a.transform_point(x) - b.transform_point(x)).length();
-                assert!(gap < 1e-12, "case {case}, t {t}: {gap} apart");
-            }
+            assert_same_poses(&mut rng, case, &chain, &motion);
         }
         assert!(screws > 150, "{screws} screws");
     }
