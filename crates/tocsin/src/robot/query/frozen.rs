@@ -143,6 +143,13 @@ impl Segment<'_> {
                 // are long enough on its own (a gripper 20 mm from the board).
                 return start;
             }
+            if d <= self.delta {
+                // Within the tolerance already (`d` is at least the distance): the chain's
+                // advancement, taking over here, has a pair within reach of its contact test,
+                // where a check near contact crawls past the turn's corners (a shaft spinning
+                // on a swinging lever into its bore: 19 ms of 66).
+                return t;
+            }
             // A far check ends at a frozen pair within `delta + 2 eps`, and the frozen
             // distance is about `d - eps` where the clearance holds: a piece of length `len`
             // drifts by `eps = speed len / 2 = room / 4`, `room = d - delta`, and the room left
