@@ -24,22 +24,23 @@
 //! faces), and such a piece ends at the next near phase: a far check whose first step certifies
 //! under [`LEAST_FIRST_STEP`] of its piece stops there, and after a far check that ends short of
 //! its piece the room of later pieces is at most a quarter of its room, doubling with each piece
-//! certified whole. Within `1.25 delta` the checks go on near contact: a fixed drift `eps` of a
-//! tenth of the tolerance, steps against `delta / 2 + eps`, and a frozen pair within `delta / 2 + 2
-//! eps` ending the check, so that its frozen contacts are true ones (within `delta / 2 + 3 eps`,
-//! under `delta`) and the chain taking over there ends at once; a near check that does not answer
-//! in [`NEAR_ITERATIONS`] hands over to the chain. (The chain alone within `1.25 delta` paid a
-//! spinning link's tangential speed at every corner passing an obstacle 1.01 to 1.2 tolerances
-//! away, and ran to the 1,000-iteration cap.) A check that finds a frozen contact at `t_c` has
-//! certified `[a, t_c)` (its steps keep every pair above its half tolerance), and the next piece
-//! starts there; one that stops at its iteration cap hands over to the chain. The checks are tried
-//! where the turn dominates (the joint's points move [`DOMINANCE`] times faster than `P`'s points
-//! at the obstacle), where the link sweeps at least [`SWEEP`] clearances (else the chain's steps
-//! are long enough on their own), and where the span needs at most [`MAX_PIECES`] pieces at its
-//! start's clearance (each check starts its certificates' caches cold but for the turning mesh's
-//! ranges, which the mesh keeps: 0.2 to 0.4 ms on a 43K-triangle sensor). The checks only certify:
-//! every contact is still found by the chain's advancement, so the segment query's answers keep
-//! their meaning. An ordinary planner's edge moves every joint alike and never takes them.
+//! certified whole. A clearance already within `delta` hands over to the chain at once. Within
+//! `1.25 delta` the checks go on near contact: a fixed drift `eps` of a tenth of the tolerance,
+//! steps against `delta / 2 + eps`, and a frozen pair within `delta / 2 + 2 eps` ending the check,
+//! so that its frozen contacts are true ones (within `delta / 2 + 3 eps`, under `delta`) and the
+//! chain taking over there ends at once; a near check that does not answer in [`NEAR_ITERATIONS`]
+//! hands over to the chain. (The chain alone within `1.25 delta` paid a spinning link's tangential
+//! speed at every corner passing an obstacle 1.01 to 1.2 tolerances away, and ran to the
+//! 1,000-iteration cap.) A check that finds a frozen contact at `t_c` has certified `[a, t_c)` (its
+//! steps keep every pair above its half tolerance), and the next piece starts there; one that stops
+//! at its iteration cap hands over to the chain. The checks are tried where the turn dominates (the
+//! joint's points move [`DOMINANCE`] times faster than `P`'s points at the obstacle), where the
+//! link sweeps at least [`SWEEP`] clearances (else the chain's steps are long enough on their own),
+//! and where the span needs at most [`MAX_PIECES`] pieces at its start's clearance (each check
+//! starts its certificates' caches cold but for the turning mesh's ranges, which the mesh keeps:
+//! 0.2 to 0.4 ms on a 43K-triangle sensor). The checks only certify: every contact is still found
+//! by the chain's advancement, so the segment query's answers keep their meaning. An ordinary
+//! planner's edge moves every joint alike and never takes them.
 
 use super::{span_scale, Pair, Segment};
 use crate::error::ContactError;
