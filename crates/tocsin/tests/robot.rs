@@ -1102,6 +1102,16 @@ fn random_spinner(rng: &mut rand_chacha::ChaCha8Rng, kind: usize) -> TriMesh {
     }
 }
 
+/// What a spinner of `kind` ([`random_spinner`]) turns beside: a plate, for half the barrels,
+/// else a random soup.
+fn random_neighbour(rng: &mut rand_chacha::ChaCha8Rng, kind: usize) -> TriMesh {
+    if kind == 0 && rng.random_bool(0.5) {
+        tocsin::mesh::box_mesh(Vec3::new(0.2, 0.2, 0.01)).unwrap()
+    } else {
+        common::random_soup(rng, 20, 0.1)
+    }
+}
+
 /// `v`'s coordinates as a URDF attribute.
 fn xyz(v: Vec3) -> String {
     format!("{} {} {}", v.x, v.y, v.z)
@@ -1235,11 +1245,7 @@ fn spinning_links_beside_close_obstacles_against_the_contract() {
             q0[0] + swing,
             q0[1] + rng.random_range(1.5..4.5) * random_sign(&mut rng),
         ];
-        let obstacle = Arc::new(if kind == 0 && rng.random_bool(0.5) {
-            tocsin::mesh::box_mesh(Vec3::new(0.2, 0.2, 0.01)).unwrap()
-        } else {
-            common::random_soup(&mut rng, 20, 0.1)
-        });
+        let obstacle = Arc::new(random_neighbour(&mut rng, kind));
         let centre = robot.object_poses(&q0).unwrap()[0].translation;
         let mut at = common::random_pose(&mut rng, 0.1);
         at.translation = centre + 0.3 * common::random_unit(&mut rng);
@@ -1290,11 +1296,7 @@ fn spinning_links_beside_their_own_robot_against_the_contract() {
             dir.join(format!("p{case}.obj")),
         );
         write_obj(&spinner_file, &spinner);
-        let post = if kind == 0 && rng.random_bool(0.5) {
-            tocsin::mesh::box_mesh(Vec3::new(0.2, 0.2, 0.01)).unwrap()
-        } else {
-            common::random_soup(&mut rng, 20, 0.1)
-        };
+        let post = random_neighbour(&mut rng, kind);
         // Bake a random attitude into the post: the mount's origin carries no rotation.
         let turned = common::random_rotation(&mut rng);
         let post = TriMesh::new(
