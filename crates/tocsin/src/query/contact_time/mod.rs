@@ -455,8 +455,9 @@ pub(crate) struct Span {
     /// the tolerance and end at `start` just the same, with [`ContactStatus::Converged`].
     pub start_free: bool,
     /// An advancement whose first step certifies less than this fraction of the span stops
-    /// there, with an iteration-limit error at the time it reached (0: never). A robot's
-    /// frozen check sized for more room than the turn leaves stops at once and is sized again
+    /// there (0: never), with a one-iteration limit error at its start: the step search stops
+    /// as soon as its best step is under it (`StepSearch::abort_below`). A robot's frozen check
+    /// sized for more room than the turn leaves stops at once and is sized again
     /// (`robot/query/frozen.rs`).
     pub least_first_step: f64,
 }
@@ -560,6 +561,8 @@ fn advance_core<const PROBING: bool>(
     // Bounds are taken over a window twice the last step (the whole rest at first): tighter
     // than over all of [t, end] when the rotation axis is far from the bodies.
     let mut window = (span.end - span.start) * span.first_window.clamp(f64::MIN_POSITIVE, 1.0);
+    // A first step under this stops the advancement (below): the search need not finish it.
+    search.abort_below = span.least_first_step * (span.end - span.start);
     for iteration in 1..=span.max_iterations {
         let slack = if last_distance > far {
             span.slack.0
@@ -567,6 +570,7 @@ fn advance_core<const PROBING: bool>(
             span.slack.1
         };
         let out = search.run(t, window.min(span.end - t), slack, cache.pair);
+        search.abort_below = 0.0;
         cache.simplex = search.warm_simplex();
         match out {
             StepOutcome::Within { pair, closest } => {
@@ -597,7 +601,7 @@ fn advance_core<const PROBING: bool>(
                 if iteration == 1 && dt < span.least_first_step * (span.end - span.start) {
                     return Err(ContactError::IterationLimit {
                         iterations: 1,
-                        time_reached: t + dt,
+                        time_reached: t,
                     });
                 }
                 t += dt;

@@ -22,11 +22,13 @@
 //! piece eats at most half the room, and the next piece (sized again from its own start) is shorter
 //! as a contact nears. `d` can be a far phase of the turn (a shaft's corners between its bore's
 //! faces), and such a piece ends at the next near phase: a far check whose first step certifies
-//! under [`LEAST_FIRST_STEP`] of its piece stops there, and after a far check that ends short of
-//! its piece the room of later pieces is at most a quarter of its room, doubling with each piece
-//! certified whole. A clearance already within `delta` hands over to the chain at once. Within
-//! `1.25 delta` the checks go on near contact: a fixed drift `eps` of a tenth of the tolerance,
-//! steps against `delta / 2 + eps`, and a frozen pair within `delta / 2 + 2 eps` ending the check,
+//! under [`LEAST_FIRST_STEP`] of its piece stops as soon as its step search knows it, certifying
+//! nothing, and after a far check that ends short of its piece (so, or at a frozen contact) the
+//! room of later pieces is at most a quarter of its room, doubling with each piece certified
+//! whole; the clearance is measured again only where a check certified some time. A clearance
+//! already within `delta` hands over to the chain at once. Within `1.25 delta` the checks go on
+//! near contact: a fixed drift `eps` of a tenth of the tolerance, steps against
+//! `delta / 2 + eps`, and a frozen pair within `delta / 2 + 2 eps` ending the check,
 //! so that its frozen contacts are true ones (within `delta / 2 + 3 eps`, under `delta`) and the
 //! chain taking over there ends at once; a near check that does not answer in [`NEAR_ITERATIONS`]
 //! hands over to the chain. (The chain alone within `1.25 delta` paid a spinning link's tangential
@@ -75,9 +77,9 @@ const APPROXIMATE: f64 = 0.25;
 /// with the turning mesh's ranges kept).
 const MAX_PIECES: f64 = 64.0;
 
-/// A far check whose first step certifies less than this fraction of its piece stops there
-/// and counts as a frozen contact (the next piece is sized again, with a quarter of the room):
-/// its piece was sized from a far phase of the turn.
+/// A far check whose first step certifies less than this fraction of its piece stops at once
+/// (the step search stops as soon as its best step is under it) and certifies nothing; the next
+/// piece takes a quarter of the room: this one was sized from a far phase of the turn.
 const LEAST_FIRST_STEP: f64 = 1.0 / 64.0;
 
 /// The most frozen checks on one span: pieces shrink with the clearance as a contact nears.
@@ -93,6 +95,17 @@ const NEAR_ITERATIONS: usize = 8;
 /// The drift a check near contact allows (within `1.25 delta`), in tolerances: under a sixth,
 /// so that its frozen contacts are true ones (a piece may run up to 1.5 times its length).
 const NEAR_DRIFT: f64 = 0.1;
+
+/// What a frozen check on a piece `[a, b]` found.
+enum Checked {
+    /// The pair is certified on `[a, t)`: `t = b`, or a frozen contact at `t`.
+    Until(f64),
+    /// A far check whose first step certified under [`LEAST_FIRST_STEP`] of the piece: it
+    /// stopped at once, certifying nothing.
+    Oversized,
+    /// It could not tell (the turn no longer dominates, or the iteration cap).
+    Unknown,
+}
 
 /// What the frozen checks of one pair share.
 struct Frozen<'s> {
@@ -134,11 +147,19 @@ impl Segment<'_> {
         let mut shorter = 0;
         // The most room a piece is sized with (below).
         let mut most_room = f64::INFINITY;
+        // The last clearance measured, and where.
+        let mut measured: Option<(f64, f64)> = None;
         for check in 0..MAX_CHECKS {
             if t >= end {
                 return end;
             }
-            let d = self.clearance(pair, path, t);
+            // Worked out again only where a check certified some time: an oversized one
+            // leaves the piece's start where it was.
+            let d = match measured {
+                Some((at, d)) if at == t => d,
+                _ => self.clearance(pair, path, t),
+            };
+            measured = Some((t, d));
             if check == 0 && d * SWEEP >= frozen.turning * (end - start) {
                 // The link's points sweep fewer than `SWEEP` clearances: the chain's steps
                 // are long enough on its own (a gripper 20 mm from the board).
@@ -174,9 +195,9 @@ impl Segment<'_> {
             };
             let b = if end - t < 1.5 * len { end } else { t + len };
             match self.frozen_piece(pair, &frozen, (t, b), near) {
-                Some(until) if until > t => {
-                    // A far check that ends short of its piece (a frozen contact, or a first
-                    // step under `LEAST_FIRST_STEP`): the clearance at its start can be a far
+                Checked::Until(until) if until > t => {
+                    // A far check that ends short of its piece at a frozen contact (or, below,
+                    // whose first step fell short): the clearance at its start can be a far
                     // phase of the turn (a shaft's corners between the faces of its bore, 4
                     // tolerances, against 1.05 where they pass the faces), and a piece sized
                     // from it ends at the next near phase, each such check costing tens of
@@ -190,12 +211,18 @@ impl Segment<'_> {
                     }
                     (t, shorter) = (until, 0)
                 }
+                // A far check whose first step fell short ([`LEAST_FIRST_STEP`]): sized from a
+                // far phase, it stopped before the step search finished and certified nothing
+                // (a 64-sided shaft on a swinging lever: its search of every facing pair of
+                // shaft and bore had cost 23 ms of 47). The next piece, from the same start,
+                // takes a quarter of the room, and ends near contact when that is small.
+                Checked::Oversized => most_room = 0.25 * room,
                 // A far check over a long piece can run out of iterations where the link
                 // passes the obstacle many times before the drift brings it within the check's
                 // tolerance (a barrel spinning past a plate 1.16 tolerances away, its first
                 // piece the whole span, 107 tolerances of clearance): shorter pieces, before
                 // the chain crawls through it.
-                None if !near && shorter < SHORTER => shorter += 1,
+                Checked::Unknown if !near && shorter < SHORTER => shorter += 1,
                 _ => return t,
             }
         }
@@ -238,19 +265,13 @@ impl Segment<'_> {
         (speed * DOMINANCE <= frozen.turning).then_some((speed, to_parent))
     }
 
-    /// The frozen check on `[a, b]`: `Some(b)` when it certifies the piece, `Some(t_c)` when
-    /// it found a frozen contact at `t_c` (certifying `[a, t_c)`), `None` when it could not
-    /// tell (the turn no longer dominates, or the iteration cap). `near`: a check near contact,
-    /// whose frozen contacts are true ones (module docs).
-    fn frozen_piece(
-        &self,
-        pair: Pair,
-        frozen: &Frozen,
-        (a, b): (f64, f64),
-        near: bool,
-    ) -> Option<f64> {
+    /// The frozen check on `[a, b]` (`near`: a check near contact, whose frozen contacts are
+    /// true ones; module docs).
+    fn frozen_piece(&self, pair: Pair, frozen: &Frozen, (a, b): (f64, f64), near: bool) -> Checked {
         let obstacle = &self.scene.obstacles[pair.b];
-        let (speed, to_parent) = self.parent_speed(pair, frozen, 0.5 * (a + b))?;
+        let Some((speed, to_parent)) = self.parent_speed(pair, frozen, 0.5 * (a + b)) else {
+            return Checked::Unknown;
+        };
         let eps = speed * (b - a) / 2.0;
         let still = Motion::stationary(to_parent.mul(&obstacle.pose));
         let link = &self.robot.objects[pair.a].mesh;
@@ -286,14 +307,14 @@ impl Segment<'_> {
             &span,
             &mut ContactCache::default(),
         ) {
-            Ok(None) => Some(b),
-            Ok(Some(ends)) => Some(ends.time),
-            // The first step fell short: certified up to where it reached.
-            Err(ContactError::IterationLimit {
-                iterations: 1,
-                time_reached,
-            }) if span.least_first_step > 0.0 => Some(time_reached),
-            Err(_) => None,
+            Ok(None) => Checked::Until(b),
+            Ok(Some(ends)) => Checked::Until(ends.time),
+            Err(ContactError::IterationLimit { iterations: 1, .. })
+                if span.least_first_step > 0.0 =>
+            {
+                Checked::Oversized
+            }
+            Err(_) => Checked::Unknown,
         }
     }
 }
