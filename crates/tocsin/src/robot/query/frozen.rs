@@ -103,7 +103,9 @@ enum Checked {
     /// A far check whose first step certified under [`LEAST_FIRST_STEP`] of the piece: it
     /// stopped at once, certifying nothing.
     Oversized,
-    /// It could not tell (the turn no longer dominates, or the iteration cap).
+    /// It stopped at its iteration cap, certifying `[a, t)`.
+    Capped(f64),
+    /// It could not tell (the turn no longer dominates).
     Unknown,
 }
 
@@ -222,7 +224,14 @@ impl Segment<'_> {
                 // tolerance (a barrel spinning past a plate 1.16 tolerances away, its first
                 // piece the whole span, 107 tolerances of clearance): shorter pieces, before
                 // the chain crawls through it.
-                Checked::Unknown if !near && shorter < SHORTER => shorter += 1,
+                Checked::Capped(until) if !near && shorter < SHORTER => {
+                    (t, shorter) = (until.max(t), shorter + 1)
+                }
+                // The chain takes over where the check reached: a check near contact that ran
+                // out of iterations had certified up to there (a keyed shaft coming round to a
+                // bump of its bore, which the chain then crawled through again: 9 of its 14
+                // iterations).
+                Checked::Capped(until) => return until.max(t),
                 _ => return t,
             }
         }
@@ -314,6 +323,7 @@ impl Segment<'_> {
             {
                 Checked::Oversized
             }
+            Err(ContactError::IterationLimit { time_reached, .. }) => Checked::Capped(time_reached),
             Err(_) => Checked::Unknown,
         }
     }
