@@ -35,7 +35,8 @@
 //! speed at every corner passing an obstacle 1.01 to 1.2 tolerances away, and ran to the
 //! 1,000-iteration cap.) A check that finds a frozen contact at `t_c` has certified `[a, t_c)` (its
 //! steps keep every pair above its half tolerance), and the next piece starts there; one that stops
-//! at its iteration cap hands over to the chain. The checks are tried where the turn dominates (the
+//! at its iteration cap has certified up to where it reached, and the chain (or, for a far check,
+//! a retry on a shorter piece) starts there. The checks are tried where the turn dominates (the
 //! joint's points move [`DOMINANCE`] times faster than `P`'s points at the obstacle), where the
 //! link sweeps at least [`SWEEP`] clearances (else the chain's steps are long enough on their own),
 //! and where the span needs at most [`MAX_PIECES`] pieces at its start's clearance (each check
