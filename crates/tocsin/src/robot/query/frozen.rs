@@ -319,11 +319,12 @@ impl Segment<'_> {
         ) {
             Ok(None) => Checked::Until(b),
             Ok(Some(ends)) => Checked::Until(ends.time),
-            Err(ContactError::IterationLimit { iterations: 1, .. })
-                if span.least_first_step > 0.0 =>
-            {
-                Checked::Oversized
-            }
+            // The first step fell short: stopped at the piece's start. (A cap of one iteration
+            // reached after a longer step certified up to where it reached: below.)
+            Err(ContactError::IterationLimit {
+                iterations: 1,
+                time_reached,
+            }) if span.least_first_step > 0.0 && time_reached <= a => Checked::Oversized,
             Err(ContactError::IterationLimit { time_reached, .. }) => Checked::Capped(time_reached),
             Err(_) => Checked::Unknown,
         }
