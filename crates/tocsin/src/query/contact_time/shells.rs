@@ -51,21 +51,20 @@ pub(crate) struct AxisShells {
     /// turning mesh's root centre (a ball's centre for a ball turning about its centre).
     lambda: f64,
     /// Exact ranges over a turning node's triangle corners, computed on first use: largest
-    /// `rho`, smallest and largest `z`, largest distance from `O`. By node index, NaN where
-    /// not yet worked out (allocated on first use, as [`Self::still_rho`]).
-    corners: std::cell::RefCell<Vec<[f64; 4]>>,
+    /// `rho`, smallest and largest `z`, largest distance from `O`.
+    corners: std::cell::RefCell<NodeMap<[f64; 4]>>,
     /// The same ranges over each leaf's triangle and over each run of [`RUN`] leaves (by leaf
     /// position), worked out together on first use, from which a node's are merged.
     leaf_corners: std::cell::OnceCell<std::sync::Arc<AxisRanges>>,
     /// A turning node's meridian direction (its volume's normal, [`Meridian::of_normal`]) and
     /// the exact range of `h` over its triangles (each triangle's own tangent form), computed
     /// on first use; `None` where the normal has no meridian part.
-    meridians: std::cell::RefCell<std::collections::HashMap<u32, Option<(Meridian, Range)>>>,
+    meridians: std::cell::RefCell<NodeMap<Option<(Meridian, Range)>>>,
     /// Where the turning body slides along the axis as it turns, the helical certificate
     /// ([`Helix`]), and a turning node's direction and exact ranges for it, computed on first
     /// use.
     helix: Option<Helix>,
-    helices: std::cell::RefCell<std::collections::HashMap<u32, Option<(Direction, Ranges)>>>,
+    helices: std::cell::RefCell<NodeMap<Option<(Direction, Ranges)>>>,
     /// The triangles that the screw's invariants settle for the whole query ([`Quotient`]),
     /// worked out on first use once allowed ([`Self::allow_quotient`]).
     quotient: std::cell::OnceCell<Quotient>,
@@ -82,9 +81,33 @@ pub(crate) struct AxisShells {
     /// The exact range of the axial coordinate (from the axis point at `t = 0`) over a still
     /// node's triangles, by node index, NaN where not yet worked out (allocated on first use).
     still_z: std::cell::RefCell<Vec<[f64; 2]>>,
-    /// A turning node's profile ([`Self::turning_profile`]) by node index, NaN where not yet
-    /// worked out (allocated on first use).
-    profiles: std::cell::RefCell<Vec<[f64; PROFILE_BINS]>>,
+    /// A turning node's profile ([`Self::turning_profile`]), computed on first use.
+    profiles: std::cell::RefCell<NodeMap<[f64; PROFILE_BINS]>>,
+}
+
+/// A map by node index, hashed by one multiplication: the standard library's SipHash of every
+/// lookup was most of the maps' cost (a node's ranges are asked once per pair visited).
+type NodeMap<V> = std::collections::HashMap<u32, V, std::hash::BuildHasherDefault<NodeHasher>>;
+
+/// The hasher of [`NodeMap`]: a node index times the golden ratio's 64-bit fraction (the
+/// table takes its bucket from the low bits and its tags from the high ones, both mixed).
+#[derive(Default)]
+struct NodeHasher(u64);
+
+impl std::hash::Hasher for NodeHasher {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+
+    fn write(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.0 = (self.0.rotate_left(8) ^ u64::from(b)).wrapping_mul(0x9E37_79B9_7F4A_7C15);
+        }
+    }
+
+    fn write_u32(&mut self, i: u32) {
+        self.0 = (u64::from(i) ^ self.0).wrapping_mul(0x9E37_79B9_7F4A_7C15);
+    }
 }
 
 /// Ranges of a volume's distances from a line and along it, or from a point.
@@ -396,15 +419,8 @@ impl AxisShells {
     /// Exact corner ranges of the turning mesh's node `index` (see [`Self::corners`]; body
     /// frame).
     fn turning_corners(&self, mesh: &TriMesh, index: u32) -> [f64; 4] {
-        {
-            let mut cache = self.corners.borrow_mut();
-            if cache.is_empty() {
-                cache.resize(mesh.bvh().nodes().len(), [f64::NAN; 4]);
-            }
-            let r = cache[index as usize];
-            if !r[0].is_nan() {
-                return r;
-            }
+        if let Some(r) = self.corners.borrow().get(&index) {
+            return *r;
         }
         // Merged from its leaves' ranges, and whole runs of them where it covers one: a
         // traversal asks for nodes at every level over the same triangles, and a pass over each
@@ -430,7 +446,7 @@ impl AxisShells {
                 merged(&leaves[last * RUN..range.end]),
             ])
         };
-        self.corners.borrow_mut()[index as usize] = r;
+        self.corners.borrow_mut().insert(index, r);
         r
     }
 
@@ -441,15 +457,8 @@ impl AxisShells {
     /// each leaf's range), or -1 where no leaf is given to it. From the leaves' corner ranges
     /// ([`Self::turning_corners`], asked first).
     fn turning_profile(&self, mesh: &TriMesh, index: u32, z: (f64, f64)) -> [f64; PROFILE_BINS] {
-        {
-            let mut cache = self.profiles.borrow_mut();
-            if cache.is_empty() {
-                cache.resize(mesh.bvh().nodes().len(), [f64::NAN; PROFILE_BINS]);
-            }
-            let p = cache[index as usize];
-            if !p[0].is_nan() {
-                return p;
-            }
+        if let Some(p) = self.profiles.borrow().get(&index) {
+            return *p;
         }
         let mut profile = [-1.0f64; PROFILE_BINS];
         if let Some([leaves, _]) = self.leaf_corners.get().map(|a| &**a) {
@@ -467,7 +476,7 @@ impl AxisShells {
                 }
             }
         }
-        self.profiles.borrow_mut()[index as usize] = profile;
+        self.profiles.borrow_mut().insert(index, profile);
         profile
     }
 
