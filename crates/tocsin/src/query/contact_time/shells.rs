@@ -460,19 +460,22 @@ impl AxisShells {
         if let Some(p) = self.profiles.borrow().get(&index) {
             return *p;
         }
+        // Always there (`turning_corners`, asked first, works them out); were they not, an
+        // empty profile would certify every pair, so each slab is taken to reach infinitely far.
+        let Some([leaves, _]) = self.leaf_corners.get().map(|a| &**a) else {
+            return [f64::INFINITY; PROFILE_BINS];
+        };
         let mut profile = [-1.0f64; PROFILE_BINS];
-        if let Some([leaves, _]) = self.leaf_corners.get().map(|a| &**a) {
-            for &[rho, lo, hi, _] in &leaves[mesh.bvh().nodes()[index as usize].leaf_range()] {
-                for (b, reach) in profile.iter_mut().enumerate() {
-                    let (s_lo, s_hi) = profile_slab(z, b);
-                    let given = if lo < hi {
-                        s_lo < hi && s_hi > lo
-                    } else {
-                        s_lo <= lo && lo <= s_hi
-                    };
-                    if given {
-                        *reach = reach.max(rho);
-                    }
+        for &[rho, lo, hi, _] in &leaves[mesh.bvh().nodes()[index as usize].leaf_range()] {
+            for (b, reach) in profile.iter_mut().enumerate() {
+                let (s_lo, s_hi) = profile_slab(z, b);
+                let given = if lo < hi {
+                    s_lo < hi && s_hi > lo
+                } else {
+                    s_lo <= lo && lo <= s_hi
+                };
+                if given {
+                    *reach = reach.max(rho);
                 }
             }
         }
