@@ -85,12 +85,14 @@ pub(crate) struct AxisShells {
     profiles: std::cell::RefCell<NodeMap<[f64; PROFILE_BINS]>>,
 }
 
-/// A map by node index, hashed by one multiplication: the standard library's SipHash of every
-/// lookup was most of the maps' cost (a node's ranges are asked once per pair visited).
+/// A map by node index, hashed by one multiplication: the standard library's SipHash was among
+/// the certificates' costliest lines in callgrind (a tapered shaft in its bore; a node's ranges
+/// are asked once per pair visited).
 type NodeMap<V> = std::collections::HashMap<u32, V, std::hash::BuildHasherDefault<NodeHasher>>;
 
 /// The hasher of [`NodeMap`]: a node index times the golden ratio's 64-bit fraction (the
-/// table takes its bucket from the low bits and its tags from the high ones, both mixed).
+/// table takes its bucket from the low bits, which stay distinct for indices distinct in
+/// theirs, and its tags from the high bits, which the multiplication mixes).
 #[derive(Default)]
 struct NodeHasher(u64);
 
