@@ -1133,7 +1133,7 @@ impl AxisShells {
         need: f64,
     ) -> f64 {
         let ax = &self.axis;
-        let w = need * (1.0 + 1e-6) + f64::MIN_POSITIVE;
+        let w = slab_width(need);
         let pair = (
             axis_coords(turning, ax.body_point, ax.body_dir, self.across.0),
             axis_coords(still, axis_point, ax.world_dir, self.across.1),
@@ -1174,6 +1174,13 @@ fn axis_coords(tri: &[Vec3; 3], p: Vec3, d: Vec3, (u, v): (Vec3, Vec3)) -> [[f64
         let rel = c - p;
         [rel.dot(u), rel.dot(v), rel.dot(d)]
     })
+}
+
+/// The width beside a slab within which a still part is bounded by its distance from the axis
+/// ([`slab_bound`], [`profile_triangle_gap`]): just over `need`, so that a bound of `w`
+/// certifies it.
+fn slab_width(need: f64) -> f64 {
+    need * (1.0 + 1e-6) + f64::MIN_POSITIVE
 }
 
 /// How many slabs a turning node's profile has ([`AxisShells::turning_profile`]).
@@ -1236,7 +1243,7 @@ fn profile_triangle_gap(
     slide: f64,
     need: f64,
 ) -> f64 {
-    let w = need * (1.0 + 1e-6) + f64::MIN_POSITIVE;
+    let w = slab_width(need);
     let mut lb = w;
     for (b, &reach) in profile.iter().enumerate() {
         if reach < 0.0 {
@@ -1543,29 +1550,6 @@ mod tests {
         }
     }
 
-    /// A surface of revolution about z: `n` columns, `rings` rings from `z.0` to `z.1`, the
-    /// radius `r(angle, z)` at each vertex.
-    fn revolved(n: u32, rings: u32, z: (f64, f64), r: impl Fn(f64, f64) -> f64) -> crate::TriMesh {
-        let step = std::f64::consts::TAU / f64::from(n);
-        let mut vertices = Vec::new();
-        for j in 0..=rings {
-            let h = z.0 + (z.1 - z.0) * f64::from(j) / f64::from(rings);
-            for k in 0..n {
-                let a = step * f64::from(k);
-                vertices.push(Vec3::new(r(a, h) * a.cos(), r(a, h) * a.sin(), h));
-            }
-        }
-        let mut triangles = Vec::new();
-        for j in 0..rings {
-            for k in 0..n {
-                let (p, q) = (j * n + k, j * n + (k + 1) % n);
-                triangles.push([p, q, q + n]);
-                triangles.push([p, q + n, p + n]);
-            }
-        }
-        crate::TriMesh::new(vertices, triangles).expect("a surface of revolution")
-    }
-
     /// A keyed shaft (radius 0.05, 64 sides, 0.06 over its upper quarter and 0.3 rad) turning
     /// in its bore: a narrow part below the key (12.5 tolerances of 2e-5 clear of the shaft's
     /// body), a groove of radius 0.07 above, triangles stepping from one to the other between.
@@ -1585,14 +1569,10 @@ mod tests {
                 0.05
             }
         };
-        let shaft = revolved(64, 8, (-0.1, 0.1), key);
+        let shaft = crate::mesh::revolved(key, 0.2, 64, 8).expect("shaft");
         let narrow = 0.05 * 1.005 / half.cos();
-        let bore = revolved(
-            64,
-            12,
-            (-0.15, 0.15),
-            |_, z| if z <= 0.0 { narrow } else { 0.07 },
-        );
+        let bore = crate::mesh::revolved(|_, z| if z <= 0.0 { narrow } else { 0.07 }, 0.3, 64, 12)
+            .expect("bore");
         let (motion, _) = whole_turn();
         let still = Motion::stationary(Pose::IDENTITY);
         let (bs, bb) = (shaft.bvh(), bore.bvh());
