@@ -294,6 +294,42 @@ fn the_three_axis_grid_matches_the_sweep_on_large_sets() {
     assert_eq!(sweep_and_prune(&boxes, SweepAxis::Grid3), sweep);
 }
 
+/// Two wide boxes touching end to end along the sweep axis among many small ones: both are
+/// oversize (wider than the sweep's cells), and the oversize search along the axis, from the
+/// box of smaller index, started at its `lo - widest`, which here rounds up by one unit in the
+/// last place, past the other box's low end: the touching pair was missed (found by the random
+/// mixtures run on other seeds).
+#[test]
+fn wide_boxes_touching_end_to_end_along_the_sweep_axis() {
+    let (a, b) = (-0.5215149907609639, 1.070317267561188);
+    let (y, z) = (
+        (-1.1782565135641128, 1.7678029267350368),
+        (-0.7327713577086704, 1.7355543983052630),
+    );
+    let tall = |x0: f64, x1: f64| Aabb {
+        min: Vec3::new(x0, y.0, z.0),
+        max: Vec3::new(x1, y.1, z.1),
+    };
+    assert!(b - (b - a) > a, "the rounding this case is about");
+    // The pair is searched for from the box of smaller index: the one starting at `b`.
+    let mut boxes = vec![tall(b, b + 1.0), tall(a, b)];
+    // Small boxes spread along x, so that x is the axis of largest variance and the cells are
+    // small beside the two wide boxes.
+    let mut r = rng(5);
+    for _ in 0..60 {
+        let c = Vec3::new(r.random_range(-3.0..3.0), r.random(), r.random());
+        boxes.push(Aabb {
+            min: c,
+            max: c + Vec3::splat(1e-4),
+        });
+    }
+    let reference = all_pairs(&boxes);
+    assert!(reference.contains(&(0, 1)));
+    for axis in METHODS {
+        assert_eq!(sweep_and_prune(&boxes, axis), reference, "{axis:?}");
+    }
+}
+
 #[test]
 fn every_method_matches_all_pairs_on_random_mixtures() {
     // Small random sets mixing scales (widths from 1e-9 to 10), positions far apart or

@@ -253,7 +253,12 @@ pub fn sweep_and_prune(boxes: &[Aabb], axis: SweepAxis) -> Vec<(u32, u32)> {
             .par_iter()
             .flat_map_iter(|&k| {
                 let p = &projected[k];
-                let first = order.partition_point(|q| q.0 < p.lo[0] - widest);
+                // A box meeting `p` along d1 starts at most its width, so at most `widest`,
+                // below `p.lo`. Both the widths and this subtraction round: lowered by a bound
+                // on both (a box touching `p`'s low end exactly, as wide as `widest`, was
+                // skipped when `p.lo - widest` rounded up by one unit in the last place).
+                let reach = widest + 4.0 * f64::EPSILON * (p.lo[0].abs() + widest);
+                let first = order.partition_point(|q| q.0 < p.lo[0] - reach);
                 let mut out = Vec::new();
                 for &(lo, m) in &order[first..] {
                     if lo > p.hi[0] {
