@@ -8,7 +8,7 @@ VPY := $(VENV)/bin/python
 VENV_NP1 := .venv-numpy1
 CARGO ?= cargo
 
-.PHONY: demo test venv develop wheel lint rust-test py-test bench bench-python bench-robots bench-robot-data bench-parry clean
+.PHONY: demo test soak venv develop wheel lint rust-test py-test bench bench-python bench-robots bench-robot-data bench-parry clean
 
 demo:
 	$(CARGO) run --release -q -p tocsin --example demo
@@ -64,6 +64,23 @@ py-test: wheel
 	$(VENV_NP1)/bin/python -m pytest -q crates/tocsin-py/tests
 
 test: lint rust-test py-test
+
+# The core crate's tests again on fresh seeds: run k (1..SEEDS) shifts every seed a randomized
+# test draws through `tests/common`'s `rng` (`TOCSIN_SOAK=k`), a new sample of the same
+# generators against the same oracles. A sample that happens not to mix its outcomes is
+# reported, not failed; any wrong answer fails. Not part of `make test`: each run takes the
+# integration tests' time again (about two minutes on 2 cores).
+SEEDS ?= 4
+soak:
+	$(CARGO) test --release -p tocsin --tests --no-run -q
+	@failed=""; for k in $$(seq 1 $(SEEDS)); do \
+		echo "soak $$k of $(SEEDS)"; \
+		TOCSIN_SOAK=$$k $(CARGO) test --release -q -p tocsin --tests -- --nocapture > target/soak-$$k.log 2>&1 \
+			|| { failed="$$failed $$k"; grep -E "panicked|^test .* FAILED" target/soak-$$k.log; }; \
+		grep -h "does not mix" target/soak-$$k.log || true; \
+	done; \
+	if [ -n "$$failed" ]; then echo "soak runs failed:$$failed (logs: target/soak-K.log)"; exit 1; fi; \
+	echo "every soak run passed"
 
 bench: bench-python
 	$(CARGO) bench -p tocsin

@@ -693,14 +693,14 @@ fn random_chains_against_dense_sampling() {
             None => single.1 += 1,
         }
     }
-    assert!(
+    common::assert_mixed(
         contacts >= 20 && free >= 20,
-        "{contacts} contacts, {free} free: the set should mix both"
+        &format!("{contacts} contacts, {free} free: the set should mix both"),
     );
-    assert!(self_hits >= 1, "no self-collision among the contacts");
-    assert!(
+    common::assert_mixed(self_hits >= 1, "no self-collision among the contacts");
+    common::assert_mixed(
         single.0 >= 20 && single.1 >= 20,
-        "one joint: {single:?} contacts and free edges: the set should mix both"
+        &format!("one joint: {single:?} contacts and free edges: the set should mix both"),
     );
 }
 
@@ -1134,9 +1134,9 @@ fn small_move(rng: &mut rand_chacha::ChaCha8Rng) -> f64 {
 /// A randomized test's tally of free segments and contacts mixes both: at least a fifth of the
 /// cases free and a tenth in contact.
 fn assert_mix(tally: [usize; 2], cases: usize) {
-    assert!(
+    common::assert_mixed(
         tally[0] >= cases / 5 && tally[1] >= cases / 10,
-        "{tally:?} free and contact: the set should mix both"
+        &format!("{tally:?} free and contact: the set should mix both"),
     );
 }
 
