@@ -9,7 +9,9 @@
 
 #![allow(clippy::unwrap_used, clippy::panic)]
 
-use rand::{Rng, SeedableRng};
+mod common;
+
+use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 use tocsin::TriMesh;
 
@@ -178,7 +180,7 @@ fn mutated_files_load_or_fail_cleanly() {
             .is_ok(),
             "seed {s} ({ext})"
         );
-        let mut rng = ChaCha8Rng::seed_from_u64(1000 + s as u64);
+        let mut rng = common::rng(1000 + s as u64);
         for k in 0..cases {
             let mut data = seed.clone();
             mutate(&mut rng, &mut data);

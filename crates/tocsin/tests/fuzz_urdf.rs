@@ -9,7 +9,9 @@
 
 #![allow(clippy::unwrap_used, clippy::panic)]
 
-use rand::{Rng, SeedableRng};
+mod common;
+
+use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 use tocsin::robot::query::{in_collision, path_is_free, time_of_contact};
 use tocsin::robot::{Robot, RobotOptions, Scene};
@@ -95,13 +97,13 @@ fn mutated_urdf_loads_or_fails_cleanly_and_queries_never_panic() {
         .ok()
         .and_then(|s| s.parse().ok())
         .unwrap_or(600);
-    let mut rng = ChaCha8Rng::seed_from_u64(26);
+    let mut rng = common::rng(26);
     let (mut loaded, mut refused) = (0, 0);
     for case in 0..cases {
         let xml = mutated(&mut rng);
         let outcome = std::panic::catch_unwind(|| match Robot::from_urdf_str(&xml, None, &[]) {
             Ok(robot) => {
-                let mut q_rng = ChaCha8Rng::seed_from_u64(case as u64);
+                let mut q_rng = common::rng(case as u64);
                 let mut q = || -> Vec<f64> {
                     (0..robot.dof())
                         .map(|_| q_rng.random_range(-1.5..1.5))
