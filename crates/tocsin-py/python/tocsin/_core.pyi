@@ -201,7 +201,7 @@ class ContactResult:
     time_of_contact(..., contact_pair=True) the closest points of the triangle pair that ended
     the advancement (within the tolerance; the meshes' distance is at most `distance`). The normal
     points from body 1 to body 2: the direction between the points where that is determined;
-    at a distance below rounding (1e-10 of the scene scale), the direction at the last
+    at a distance below rounding (1e-12 of the scene scale), the direction at the last
     advancement step where the meshes were clearly apart; when the meshes start in contact, the
     normal of triangle1 turned towards triangle2 (a convention).
     """

@@ -85,8 +85,13 @@ impl Path<'_> {
 }
 
 /// Below this fraction of the scene scale a distance's direction is rounding noise, and the
-/// normal is taken from the iterate before (module docs).
-pub const NORMAL_RESOLUTION: f64 = 1e-10;
+/// normal is taken from the iterate before (module docs). Five times the distances' own
+/// accuracy ([`DISTANCE_RESOLUTION`]), so that above it the direction is off by at most a
+/// fifth, and by far less as the distance grows. It was 1e-10: a contact 1.2e-11 apart
+/// between soups of 1e-7 and 1e-8, 0.1 from the origin (tolerance 1e-11), took an earlier
+/// iterate's direction, another pair's, which pointed against `point2 - point1` (resolved
+/// there to about 1e-6).
+pub const NORMAL_RESOLUTION: f64 = 1e-12;
 
 /// The accuracy of a distance, as a fraction of the scene scale (ARCHITECTURE.md): a triangle
 /// pair whose distance is within it ends the advancement whatever the tolerance, since below
