@@ -69,7 +69,7 @@ test: lint rust-test py-test
 # test draws through `tests/common`'s `rng` (`TOCSIN_SOAK=k`), a new sample of the same
 # generators against the same oracles. A sample that happens not to mix its outcomes is
 # reported, not failed; any wrong answer fails. Not part of `make test`: each run takes the
-# integration tests' time again (about two minutes on 2 cores).
+# integration tests' time again (about three minutes on 2 cores).
 SEEDS ?= 4
 soak:
 	$(CARGO) test --release -p tocsin --tests --no-run -q
