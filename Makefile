@@ -75,7 +75,7 @@ soak:
 	$(CARGO) test --release -p tocsin --tests --no-run -q
 	@failed=""; for k in $$(seq 1 $(SEEDS)); do \
 		echo "soak $$k of $(SEEDS)"; \
-		TOCSIN_SOAK=$$k $(CARGO) test --release -q -p tocsin --tests -- --nocapture > target/soak-$$k.log 2>&1 \
+		TOCSIN_SOAK=$$k $(CARGO) test --release -q -p tocsin --tests --no-fail-fast -- --nocapture > target/soak-$$k.log 2>&1 \
 			|| { failed="$$failed $$k"; grep -E "panicked|^test .* FAILED" target/soak-$$k.log; }; \
 		grep -h "does not mix" target/soak-$$k.log || true; \
 	done; \

@@ -8,7 +8,7 @@
 mod bench_common;
 mod common;
 use common::*;
-use rand::Rng;
+use rand::{Rng, SeedableRng};
 use tocsin::{
     collide, distance, mesh, time_of_contact, ContactOptions, ContactStatus, DistanceOptions,
     Motion, Pose, TriMesh, Vec3, Witnesses,
@@ -1495,7 +1495,8 @@ fn far_from_the_origin_and_at_extreme_scales() {
 /// is resolved to about 1e-6 (found by `make soak`: the case above on its seventeenth sample).
 #[test]
 fn a_normal_at_a_tiny_but_resolved_distance_is_that_distance_direction() {
-    let mut rng = rng(91 + 17 * 7919);
+    // The seed itself, not shifted on a soak run: this is the one case.
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(91 + 17 * 7919);
     for case in 0..=21 {
         let (m1, mo1, m2, mo2, label) = extreme_scale_case(&mut rng, case);
         if case < 21 {
