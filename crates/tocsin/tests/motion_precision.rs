@@ -151,11 +151,14 @@ fn rotation_log_is_accurate_near_zero_and_pi() {
                 1e-14
             };
             assert!(err < allowed, "angle {angle:e}: error {err:e}");
+            // A few units in the last place of entries up to 1: the round trip's own
+            // rounding reaches 6 near pi (1.3e-15, on samples of `make soak`; the bound was
+            // 1e-15), where a cancellation would lose digits by the million.
             assert!(
                 (rotation_exp(w) - r)
                     .to_cols_array()
                     .iter()
-                    .all(|v| v.abs() < 1e-15),
+                    .all(|v| v.abs() < 16.0 * f64::EPSILON),
                 "exp(log(R)) != R at angle {angle:e}"
             );
         }
